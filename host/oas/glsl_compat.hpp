@@ -1,0 +1,35 @@
+#pragma once
+// Compiles the GLSL sampler library (shaders/oas/*.glsl) as C++: the CPU twin *is* the shader
+// source, so the two cannot drift (the approach of nvpro-samples' shared headers and pbrt-v4's
+// host/device code). The library keeps to the common subset of GLSL and C++: scalar uint/float,
+// structs filled member by member, builtins provided here with GLSL's exact semantics.
+//
+// Everything lands in an anonymous namespace: each translation unit gets private copies of the
+// (non-inline) GLSL functions, so any file may include this header without ODR clashes. Host APIs
+// therefore pass oas::Pattern (host/oas/pattern.hpp) and convert with oas::glsl::toGlsl().
+#include <cstdint>
+#include <cstring>
+
+namespace oas::glsl {
+namespace {
+
+using uint = std::uint32_t;
+
+/// GLSL umulExtended: the 64-bit product of two uints, split into high and low words.
+inline void umulExtended(uint x, uint y, uint& msb, uint& lsb)
+{
+    const std::uint64_t product = std::uint64_t(x) * std::uint64_t(y);
+    msb = uint(product >> 32);
+    lsb = uint(product);
+}
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wunused-variable"
+#include "oas/oas.glsl"
+#pragma GCC diagnostic pop
+
+static_assert(sizeof(OasPattern) == 16 * sizeof(uint), "OasPattern must stay 16 uints");
+
+}  // namespace
+}  // namespace oas::glsl

@@ -1,0 +1,96 @@
+#pragma once
+// Host side of the sampler library: building validated OasPattern descriptors, listing valid
+// sample counts, choosing the best orthogonal array for a request, and the CPU reference
+// generator (which runs the shared GLSL code, see glsl_compat.hpp).
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace oas {
+
+/// Bad parameters: the message names the parameter, the value and the valid range or nearest
+/// valid values. Tools print it and exit with status 2.
+struct InvalidArgument : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// Byte-for-byte the GLSL struct OasPattern (shaders/oas/oas_pattern.glsl); upload as is.
+struct Pattern {
+    std::uint32_t construction = 0, offset = 0, N = 0, s = 0, strength = 0, blockDims = 0;
+    std::uint32_t fieldP = 0, fieldK = 0, fieldQ = 0, fieldPoly = 0, aux = 0, aux2 = 0;
+    std::uint32_t reserved[4] = {0, 0, 0, 0};
+};
+static_assert(sizeof(Pattern) == 64);
+
+/// Largest points per pixel: the exact-strata limit (K <= 2^24 strata per dimension).
+constexpr std::uint32_t kMaxSamples = 1u << 24;
+/// Largest Bose q: q^2 <= 2^24.
+constexpr std::uint32_t kMaxBoseQ = 4096;
+/// Field sizes stay below 2^16 so that products of two elements fit 32 bits.
+constexpr std::uint32_t kMaxFieldQ = 65535;
+/// Most dimensions the tools generate per point (the library itself takes any 32-bit dim).
+constexpr std::uint32_t kMaxDims = 4096;
+
+/// What a user asks for. sampler: one of samplerNames(), or "oa" for the best OA (chooser).
+/// strength 0 means the sampler's default (2; CMJND: the number of dims).
+struct PatternRequest {
+    std::string sampler = "oa";
+    std::uint32_t spp = 0;
+    std::uint32_t dims = 2;
+    std::uint32_t strength = 0;
+    std::string offset = "cmj";  ///< centered | j | mj | cmj (OA constructions only)
+    bool roundUp = false;        ///< allow the next valid spp when spp cannot be made exactly
+};
+
+/// Names accepted in PatternRequest::sampler (besides "oa").
+const std::vector<std::string>& samplerNames();
+/// One line per sampler saying what it is.
+std::string samplerDescription(const std::string& name);
+/// True for the orthogonal-array constructions.
+bool isOrthogonalArray(const std::string& name);
+
+/// Validated pattern for the request; throws InvalidArgument naming the nearest valid spp.
+Pattern makePattern(const PatternRequest& request);
+/// The chooser behind sampler "oa": the pattern and a human explanation of the choice.
+struct Choice {
+    Pattern pattern;
+    std::string sampler;
+    std::string explanation;
+};
+Choice chooseOrthogonalArray(const PatternRequest& request);
+
+/// Sample counts in [lo, hi] the sampler makes exactly with this strength and dims.
+std::vector<std::uint32_t> validCounts(const std::string& sampler, std::uint32_t strength,
+                                       std::uint32_t dims, std::uint32_t lo, std::uint32_t hi);
+
+/// "bose q=11 N=121 t=2 cmj, 12 dims/block", for logs and headers.
+std::string describe(const Pattern& pattern);
+/// Sampler name of a pattern's construction code.
+std::string constructionName(std::uint32_t construction);
+
+/// Prime-power decomposition: q = p^k with p prime, or {0, 0}.
+struct PrimePower {
+    std::uint32_t p = 0, k = 0;
+};
+PrimePower primePower(std::uint32_t q);
+/// The reduction polynomial g (x^k = g(x)) the library uses for GF(p^k): the first in counting
+/// order for which x is primitive. Throws for p^k > kMaxFieldQ.
+std::uint32_t primitivePolynomial(std::uint32_t p, std::uint32_t k);
+
+/// One point set laid out [pixel][sample][dim], pixel = y * width + x over the given rectangle.
+struct SampleRequest {
+    std::uint32_t x0 = 0, y0 = 0, width = 1, height = 1;
+    std::uint32_t spp = 1;       ///< samples per pixel (indices >= N use further passes)
+    std::uint32_t dims = 2;
+    std::uint32_t seed = 0;      ///< user seed mixed into every pixel seed
+};
+
+/// Pixel seed (oas_pixel_seed) for pixel (x, y) and user seed.
+std::uint32_t pixelSeed(std::uint32_t x, std::uint32_t y, std::uint32_t seed);
+/// One sample value, on the CPU (the shared GLSL code).
+float sample(const Pattern& pattern, std::uint32_t pixelSeed, std::uint32_t index, std::uint32_t dim);
+/// Whole point sets on the CPU, `threads` worker threads (0: all hardware threads).
+void generateCpu(const Pattern& pattern, const SampleRequest& request, float* out, unsigned threads = 0);
+
+}  // namespace oas

@@ -1,0 +1,119 @@
+// oas_baselines.glsl - the samplers OA sampling is compared against, behind the same interface.
+// Part of the oas GLSL library; include "oas.glsl" rather than this file.
+#ifndef OAS_BASELINES_GLSL
+#define OAS_BASELINES_GLSL
+
+/// Bit-reversed index: the van der Corput sequence in base 2 (Sobol dimension 0).
+uint oas_reverse_bits(uint v)
+{
+    v = ((v >> 1u) & 0x55555555u) | ((v & 0x55555555u) << 1u);
+    v = ((v >> 2u) & 0x33333333u) | ((v & 0x33333333u) << 2u);
+    v = ((v >> 4u) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4u);
+    v = ((v >> 8u) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8u);
+    return (v >> 16u) | (v << 16u);
+}
+
+/// Sobol dimension 1 (primitive polynomial x + 1, direction numbers m_k = 1): with dimension 0 it
+/// forms the (0,2)-sequence in base 2. Direction numbers follow v_{k+1} = v_k ^ (v_k >> 1).
+uint oas_sobol_dim1(uint index)
+{
+    uint v = 0x80000000u;
+    uint x = 0u;
+    while (index != 0u) {
+        if ((index & 1u) != 0u) x ^= v;
+        v ^= v >> 1u;
+        index >>= 1u;
+    }
+    return x;
+}
+
+/// Nested uniform (Owen 1995) scrambling of the top 24 bits of a 32-bit fraction: bit b flips
+/// when a hash of the bits above it says so, which permutes every elementary interval's halves
+/// independently. Bits below the top 24 are left as they are: the caller keeps only the top 24.
+uint oas_owen_scramble24(uint x, uint seed)
+{
+    uint result = x;
+    for (uint b = 0u; b < 24u; ++b) {
+        uint prefix = b == 0u ? 0u : x >> (32u - b);
+        uint flip = oas_hash2(seed, prefix | (1u << b)) & 1u;
+        result ^= flip << (31u - b);
+    }
+    return result;
+}
+
+/// The i-th prime, for i < 32 (Halton bases; larger dimensions start a new scrambled block).
+uint oas_halton_base(uint i)
+{
+    switch (i) {
+    case 0u: return 2u;    case 1u: return 3u;    case 2u: return 5u;    case 3u: return 7u;
+    case 4u: return 11u;   case 5u: return 13u;   case 6u: return 17u;   case 7u: return 19u;
+    case 8u: return 23u;   case 9u: return 29u;   case 10u: return 31u;  case 11u: return 37u;
+    case 12u: return 41u;  case 13u: return 43u;  case 14u: return 47u;  case 15u: return 53u;
+    case 16u: return 59u;  case 17u: return 61u;  case 18u: return 67u;  case 19u: return 71u;
+    case 20u: return 73u;  case 21u: return 79u;  case 22u: return 83u;  case 23u: return 89u;
+    case 24u: return 97u;  case 25u: return 101u; case 26u: return 103u; case 27u: return 107u;
+    case 28u: return 109u; case 29u: return 113u; case 30u: return 127u; default: return 131u;
+    }
+}
+
+/// Dimensions of one Halton block: beyond it, a new block with freshly shuffled indices and digit
+/// permutations (padding), never a silent wrap onto the same bases with the same scrambling.
+const uint OAS_HALTON_BLOCK = 32u;
+
+/// Baseline samplers. `index` < N; passes (index >= N) are handled by oas_sample.
+float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
+{
+    if (pat.construction == OAS_RANDOM)
+        return float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24;
+
+    if (pat.construction == OAS_HALTON) {
+        uint block = dim / OAS_HALTON_BLOCK;
+        uint base = oas_halton_base(dim - block * OAS_HALTON_BLOCK);
+        uint blockSeed = oas_hash2(seed, block);
+        uint i = block == 0u ? index : oas_permute(index, pat.N, blockSeed ^ OAS_TAG_ROW);
+        uint dimSeed = oas_hash2(blockSeed, dim);
+        // Digits of i, least significant first, each through its own random permutation
+        // (random-digit-permutation Halton); enough digits to tell all N indices apart, capped
+        // where base^digits would pass 2^24 (the exact fixed-point limit).
+        uint strata = 1u;
+        uint m = 0u;
+        uint digitIndex = 0u;
+        while (strata < pat.N && strata <= OAS_ONE_FIXED / base) {
+            uint d = i % base;
+            i /= base;
+            uint pd = oas_permute(d, base, oas_hash2(dimSeed, digitIndex));
+            m = m * base + pd;  // digit k lands at base^-(k+1): reversed order builds m
+            strata *= base;
+            digitIndex += 1u;
+        }
+        return oas_stratum_point(m, strata, oas_hash2(dimSeed ^ OAS_TAG_JITTER, index));
+    }
+
+    // Padded 2D patterns: dimensions (2p, 2p+1) form pair p; every pair shuffles the sample
+    // order independently (Kollig and Keller 2002), which decorrelates pairs.
+    uint pair = dim >> 1u;
+    uint axis = dim & 1u;
+    uint pairSeed = oas_hash2(seed, pair);
+    uint i = oas_permute(index, pat.N, pairSeed ^ OAS_TAG_ROW);
+    uint jitter = oas_hash3(pairSeed ^ OAS_TAG_JITTER, axis, index);
+    if (pat.construction == OAS_ZERO_TWO) {
+        uint x = axis == 0u ? oas_reverse_bits(i) : oas_sobol_dim1(i);
+        return float(oas_owen_scramble24(x, oas_hash2(pairSeed, axis)) >> 8u) * OAS_INV_2POW24;
+    }
+    uint nx = pat.aux;
+    uint ny = pat.aux2;
+    uint cy = i / nx;
+    uint cx = i - cy * nx;
+    if (pat.construction == OAS_JITTERED_2D)
+        return axis == 0u ? oas_stratum_point(cx, nx, jitter) : oas_stratum_point(cy, ny, jitter);
+    // OAS_CMJ_2D (Kensler 2013): the cell's x-substratum is a permutation of its row, shared by all
+    // rows (and vice versa), which makes both 1D projections N-strata Latin hypercubes.
+    if (axis == 0u) {
+        uint sy = oas_permute(cy, ny, pairSeed ^ OAS_TAG_SUB);
+        return oas_stratum_point(cx * ny + sy, pat.N, jitter);
+    }
+    uint sx = oas_permute(cx, nx, pairSeed ^ OAS_TAG_STRATUM);
+    return oas_stratum_point(cy * nx + sx, pat.N, jitter);
+}
+
+#endif // OAS_BASELINES_GLSL

@@ -1,0 +1,112 @@
+// oas_hash.glsl - stateless hashing, hashed permutations and exact fixed-point strata.
+// Part of the oas GLSL library; include "oas.glsl" rather than this file.
+// Shared verbatim with C++ through host/oas/glsl_compat.hpp: keep to the GLSL/C++ common subset
+// (scalar uint/float, structs built member by member, no in/out/inout qualifiers).
+#ifndef OAS_HASH_GLSL
+#define OAS_HASH_GLSL
+
+/// 2^-24 as a float: the one scale that turns 24-bit fixed point into [0,1) exactly.
+const float OAS_INV_2POW24 = 5.9604644775390625e-8;
+/// One past the largest fixed-point value: outputs are F * 2^-24 with F < 2^24, so never 1.0.
+const uint OAS_ONE_FIXED = 16777216u;
+
+/// 32-bit integer hash: the PCG-based hash recommended by Jarzynski and Olano,
+/// "Hash Functions for GPU Rendering" (JCGT 2020). A bijection on 32 bits.
+uint oas_pcg(uint v)
+{
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+/// Hash of two words; order matters (oas_hash2(a, b) != oas_hash2(b, a) in general).
+uint oas_hash2(uint a, uint b) { return oas_pcg(a ^ oas_pcg(b + 0x9e3779b9u)); }
+
+/// Hash of three words.
+uint oas_hash3(uint a, uint b, uint c) { return oas_hash2(oas_hash2(a, b), c); }
+
+/// High 32 bits of the 64-bit product a*b (exact; no 64-bit types needed).
+uint oas_mulhi(uint a, uint b)
+{
+    uint hi;
+    uint lo;
+    umulExtended(a, b, hi, lo);
+    return hi;
+}
+
+/// A seeded pseudo-random permutation of [0, l), evaluated at i (i < l). Bijective for every
+/// seed and every l in [1, 2^32): each round below is a bijection of w-bit words (xor with a key,
+/// multiply by an odd number, xor-shift right, add a key, all modulo 2^w), and cycle-walking
+/// (Black and Rogaway 2002, as used by Kensler's "Correlated Multi-Jittered Sampling", Pixar
+/// Technical Memo 13-01) restricts that bijection of [0, 2^w) to [0, l). Because 2^w < 2l the
+/// walk takes fewer than two rounds on average. Unlike Kensler's final `(i + p) % l`, nothing here
+/// can wrap past 2^32, so the result stays a permutation for seeds near 2^32 too.
+uint oas_permute(uint i, uint l, uint seed)
+{
+    if (l <= 1u) return 0u;
+    uint w = l - 1u;
+    w |= w >> 1u; w |= w >> 2u; w |= w >> 4u; w |= w >> 8u; w |= w >> 16u;
+    // Half the word width (at least 1): the xor-shift distance that mixes high bits into low.
+    uint half = 1u;
+    if (w > 0x3u) half = 2u;
+    if (w > 0xfu) half = 3u;
+    if (w > 0xffu) half = 5u;
+    if (w > 0xfffu) half = 7u;
+    if (w > 0xffffu) half = 9u;
+    if (w > 0xffffffu) half = 13u;
+    uint k0 = seed;
+    uint k1 = (seed >> 16u) | (seed << 16u);
+    uint k2 = seed * 0x2c1b3c6du;
+    do {
+        i ^= k0;
+        i = (i * 0xe31a5a27u) & w;
+        i ^= i >> half;
+        i = (i + k1) & w;
+        i = (i * (k2 | 1u)) & w;
+        i ^= i >> half;
+        i = (i ^ (k2 >> 7u)) & w;
+        i = (i * 0x9e3779b1u) & w;
+        i ^= i >> (half + 1u);
+    } while (i >= l);
+    return i;
+}
+
+/// ceil(m * 2^24 / K) for m <= K and 1 <= K <= 2^24, in 32-bit integers: the smallest 24-bit
+/// fixed-point value F with F / 2^24 >= m / K. Long division eight bits at a time keeps every
+/// partial remainder below K <= 2^24, so remainder * 256 never overflows.
+uint oas_ceil_fixed24(uint m, uint K)
+{
+    if (m >= K) return OAS_ONE_FIXED;
+    if ((K & (K - 1u)) == 0u) {
+        // Power of two: an exact shift (K <= 2^24, so the shift distance is >= 0).
+        uint shift = 24u;
+        uint k = K;
+        while (k > 1u) { k >>= 1u; shift -= 1u; }
+        return m << shift;
+    }
+    uint q = 0u;
+    uint r = m;
+    for (uint step = 0u; step < 3u; ++step) {
+        r <<= 8u;
+        uint d = r / K;
+        q = (q << 8u) | d;
+        r -= d * K;
+    }
+    return r != 0u ? q + 1u : q;
+}
+
+/// A point of stratum m of K equal strata of [0,1), placed by the 32-bit fraction u (u = 2^31
+/// is the stratum's centre). Guarantees m/K <= x < (m+1)/K exactly as real numbers and x < 1,
+/// for every K <= 2^24: the result is F * 2^-24 with F in [ceil(m 2^24/K), ceil((m+1) 2^24/K)),
+/// a non-empty range because a half-open interval of width >= 2^-24 holds a multiple of 2^-24.
+float oas_stratum_point(uint m, uint K, uint u)
+{
+    uint lo = oas_ceil_fixed24(m, K);
+    uint hi = oas_ceil_fixed24(m + 1u, K);
+    return float(lo + oas_mulhi(hi - lo, u)) * OAS_INV_2POW24;
+}
+
+/// The 24-bit fixed-point integer behind a float the library returned (x * 2^24, exact).
+uint oas_fixed24_of(float x) { return uint(x * 16777216.0); }
+
+#endif // OAS_HASH_GLSL

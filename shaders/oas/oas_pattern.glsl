@@ -1,0 +1,47 @@
+// oas_pattern.glsl - the pattern descriptor shared by the host and every shader.
+// Part of the oas GLSL library; include "oas.glsl" rather than this file.
+#ifndef OAS_PATTERN_GLSL
+#define OAS_PATTERN_GLSL
+
+// Constructions (orthogonal arrays, Jarosz et al. 2019 section 4) ...
+const uint OAS_BOSE = 1u;                 ///< OA(q^2, q+1, q, 2), Bose 1938
+const uint OAS_BUSH = 2u;                 ///< OA(q^t, q+1, q, t), Bush 1952
+const uint OAS_BOSE_BUSH = 3u;            ///< OA(2q^2, 2q+1, q, 2), q = 2^k, Bose and Bush 1952
+const uint OAS_ADDELMAN_KEMPTHORNE = 4u;  ///< OA(2q^2, 2q+1, q, 2), q odd, Addelman and Kempthorne 1961
+const uint OAS_CMJND = 5u;                ///< OA(s^d, d, s, d): full factorial, the paper's CMJND
+// ... and the baselines behind the same interface.
+const uint OAS_RANDOM = 16u;              ///< independent uniform samples
+const uint OAS_JITTERED_2D = 17u;         ///< jittered nx*ny grid per dimension pair, padded
+const uint OAS_CMJ_2D = 18u;              ///< Kensler 2013 correlated multi-jitter per pair, padded
+const uint OAS_ZERO_TWO = 19u;            ///< Owen-scrambled (0,2)-sequence per pair, padded
+const uint OAS_HALTON = 20u;              ///< Halton with random digit permutations
+
+// Offsets: where a point sits inside its OA stratum.
+const uint OAS_OFFSET_CENTERED = 0u;  ///< centre of the stratum
+const uint OAS_OFFSET_J = 1u;         ///< uniform jitter inside the stratum
+const uint OAS_OFFSET_MJ = 2u;        ///< multi-jittered: N-strata Latin hypercube in 1D
+const uint OAS_OFFSET_CMJ = 3u;       ///< correlated multi-jittered: one substratum permutation per dimension
+
+/// Everything a shader needs to evaluate one sampler. Sixteen uints (64 bytes), so it fits a push
+/// constant block or a std140/std430 buffer as is. Build it on the host (oas::makePattern in the
+/// C++ library), which validates the parameters; the shader trusts it.
+struct OasPattern {
+    uint construction; ///< OAS_BOSE ... OAS_HALTON
+    uint offset;       ///< OAS_OFFSET_* (OA constructions only)
+    uint N;            ///< points per pixel (one OA); sample indices >= N start fresh OAs
+    uint s;            ///< levels (strata) per dimension of the OA
+    uint strength;     ///< t: every t-dimensional projection is stratified
+    uint blockDims;    ///< dimensions one OA covers; dimension d uses block d / blockDims
+    uint fieldP;       ///< the OA's field GF(p^k): characteristic
+    uint fieldK;       ///<   degree
+    uint fieldQ;       ///<   size p^k
+    uint fieldPoly;    ///<   reduction polynomial (see OasField)
+    uint aux;          ///< Bush: q^(t-1); Addelman-Kempthorne: a non-square of GF(q); 2D baselines: nx
+    uint aux2;         ///< 2D baselines: ny
+    uint reserved0;
+    uint reserved1;
+    uint reserved2;
+    uint reserved3;
+};
+
+#endif // OAS_PATTERN_GLSL
