@@ -33,7 +33,7 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
             const std::uint32_t y = r.y0 + std::uint32_t(px / r.width);
             const std::uint32_t seed = glsl::oas_pixel_seed(x, y, r.seed);
             float* dst = out + px * r.spp * r.dims;
-            for (std::uint32_t i = 0; i < r.spp; ++i) {
+            for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp; ++i) {
                 if (pat.construction >= glsl::OAS_RANDOM) {
                     for (std::uint32_t d = 0; d < r.dims; ++d) *dst++ = glsl::oas_sample(pat, seed, i, d);
                     continue;

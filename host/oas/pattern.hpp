@@ -84,6 +84,7 @@ struct SampleRequest {
     std::uint32_t spp = 1;       ///< samples per pixel (indices >= N use further passes)
     std::uint32_t dims = 2;
     std::uint32_t seed = 0;      ///< user seed mixed into every pixel seed
+    std::uint32_t firstSample = 0;  ///< sample indices [firstSample, firstSample + spp)
 };
 
 /// Pixel seed (oas_pixel_seed) for pixel (x, y) and user seed.

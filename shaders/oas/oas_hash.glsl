@@ -47,26 +47,26 @@ uint oas_permute(uint i, uint l, uint seed)
     uint w = l - 1u;
     w |= w >> 1u; w |= w >> 2u; w |= w >> 4u; w |= w >> 8u; w |= w >> 16u;
     // Half the word width (at least 1): the xor-shift distance that mixes high bits into low.
-    uint half = 1u;
-    if (w > 0x3u) half = 2u;
-    if (w > 0xfu) half = 3u;
-    if (w > 0xffu) half = 5u;
-    if (w > 0xfffu) half = 7u;
-    if (w > 0xffffu) half = 9u;
-    if (w > 0xffffffu) half = 13u;
+    uint shift = 1u;
+    if (w > 0x3u) shift = 2u;
+    if (w > 0xfu) shift = 3u;
+    if (w > 0xffu) shift = 5u;
+    if (w > 0xfffu) shift = 7u;
+    if (w > 0xffffu) shift = 9u;
+    if (w > 0xffffffu) shift = 13u;
     uint k0 = seed;
     uint k1 = (seed >> 16u) | (seed << 16u);
     uint k2 = seed * 0x2c1b3c6du;
     do {
         i ^= k0;
         i = (i * 0xe31a5a27u) & w;
-        i ^= i >> half;
+        i ^= i >> shift;
         i = (i + k1) & w;
         i = (i * (k2 | 1u)) & w;
-        i ^= i >> half;
+        i ^= i >> shift;
         i = (i ^ (k2 >> 7u)) & w;
         i = (i * 0x9e3779b1u) & w;
-        i ^= i >> (half + 1u);
+        i ^= i >> (shift + 1u);
     } while (i >= l);
     return i;
 }
@@ -98,7 +98,7 @@ uint oas_ceil_fixed24(uint m, uint K)
 /// A point of stratum m of K equal strata of [0,1), placed by the 32-bit fraction u (u = 2^31
 /// is the stratum's centre). Guarantees m/K <= x < (m+1)/K exactly as real numbers and x < 1,
 /// for every K <= 2^24: the result is F * 2^-24 with F in [ceil(m 2^24/K), ceil((m+1) 2^24/K)),
-/// a non-empty range because a half-open interval of width >= 2^-24 holds a multiple of 2^-24.
+/// a non-empty range because a shift-open interval of width >= 2^-24 holds a multiple of 2^-24.
 float oas_stratum_point(uint m, uint K, uint u)
 {
     uint lo = oas_ceil_fixed24(m, K);

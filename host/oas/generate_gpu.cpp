@@ -1,0 +1,78 @@
+#include "oas/generate_gpu.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "oas_generate_spv.h"
+#include "oas_generate_hash_only_spv.h"
+
+namespace oas {
+namespace {
+constexpr std::uint32_t kLocalSize = 64;          // local_size_x of oas_generate.comp
+constexpr std::uint32_t kDimsPerInvocation = 8;   // OAS_DIMS_PER_INVOCATION of oas_generate.comp
+
+struct GenerateParams {  // the push-constant block of oas_generate.comp
+    Pattern pattern;
+    std::uint32_t x0, y0, width, spp, dims, seed, firstItem, itemCount, firstSample;
+};
+static_assert(sizeof(GenerateParams) == 100);
+}  // namespace
+
+GpuGenerator::GpuGenerator(vk::Context& context, bool hashOnly) : context_(context)
+{
+    const std::uint32_t* code = hashOnly ? oas_generate_hash_only_spv : oas_generate_spv;
+    const std::size_t bytes = hashOnly ? sizeof(oas_generate_hash_only_spv) : sizeof(oas_generate_spv);
+    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 1, sizeof(GenerateParams));
+}
+
+GpuGenerator::~GpuGenerator() = default;
+
+std::uint64_t GpuGenerator::pointsPerDispatch(std::uint32_t dims) const
+{
+    const auto& limits = context_.limits();
+    // Cap a chunk at 64 MiB even where the device allows more: big enough to amortise a submit,
+    // small enough that no single dispatch runs long (watchdogs on real GPUs).
+    const std::uint64_t maxBytes = std::min<std::uint64_t>(limits.maxStorageBufferRange, 64ull << 20);
+    const std::uint64_t byBuffer = maxBytes / (std::uint64_t(dims) * sizeof(float));
+    const std::uint64_t groups = (dims + kDimsPerInvocation - 1) / kDimsPerInvocation;
+    const std::uint64_t byGroups = std::uint64_t(limits.maxComputeWorkGroupCount[0]) * kLocalSize *
+                                   std::min<std::uint32_t>(limits.maxComputeWorkGroupCount[1], 64) / groups;
+    std::uint64_t points = std::max<std::uint64_t>(1, std::min(byBuffer, byGroups));
+    if (maxPointsPerDispatch_) points = std::min(points, maxPointsPerDispatch_);
+    return points;
+}
+
+void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, float* out)
+{
+    const std::uint64_t groups = (r.dims + kDimsPerInvocation - 1) / kDimsPerInvocation;
+    const std::uint64_t totalPoints = std::uint64_t(r.width) * r.height * r.spp;
+    if (totalPoints * groups > 0xffffffffull)
+        throw InvalidArgument("width * height * spp * ceil(dims / 8) = " + std::to_string(totalPoints * groups) +
+                              " exceeds 2^32 - 1 work items; split the request");
+    const std::uint64_t chunk = std::min(totalPoints, pointsPerDispatch(r.dims));
+    const std::uint64_t chunkBytes = std::max<std::uint64_t>(chunk * r.dims * sizeof(float), 4);
+    if (!buffer_ || buffer_->size() < chunkBytes) {
+        buffer_.reset();
+        buffer_ = std::make_unique<vk::Buffer>(context_, chunkBytes);
+    }
+    vk::Buffer* buffers[] = {buffer_.get()};
+    const std::uint32_t maxGroupsX = context_.limits().maxComputeWorkGroupCount[0];
+    for (std::uint64_t first = 0; first < totalPoints; first += chunk) {
+        const std::uint64_t points = std::min(chunk, totalPoints - first);
+        const auto items = std::uint32_t(points * groups);
+        GenerateParams params{pattern, r.x0, r.y0, r.width, r.spp, r.dims, r.seed,
+                              std::uint32_t(first * groups), items, r.firstSample};
+        const std::uint32_t workGroups = (items + kLocalSize - 1) / kLocalSize;
+        const std::uint32_t gx = std::min(workGroups, maxGroupsX);
+        const std::uint32_t gy = (workGroups + gx - 1) / gx;
+        context_.dispatch(*pipeline_, buffers, &params, sizeof(params), gx, gy);
+        if (out) std::memcpy(out + first * r.dims, buffer_->data(), std::size_t(points) * r.dims * sizeof(float));
+    }
+}
+
+void GpuGenerator::generate(const Pattern& pattern, const SampleRequest& request, float* out)
+{
+    dispatchAll(pattern, request, out);
+}
+
+}  // namespace oas

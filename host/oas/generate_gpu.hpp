@@ -1,0 +1,35 @@
+#pragma once
+// GPU generation of whole point sets with shaders/oas_generate.comp, in chunks that respect the
+// device's storage-buffer and work-group-count limits (lavapipe: 128 MiB, 65535 groups).
+#include <cstdint>
+#include <memory>
+
+#include "oas/pattern.hpp"
+#include "vk/context.hpp"
+
+namespace oas {
+
+class GpuGenerator {
+public:
+    /// hashOnly: build the same-shape kernel that only hashes (the benchmark's ceiling).
+    explicit GpuGenerator(vk::Context& context, bool hashOnly = false);
+    ~GpuGenerator();
+
+    /// Fills out[] ([pixel][sample][dim], like generateCpu) from the GPU.
+    void generate(const Pattern& pattern, const SampleRequest& request, float* out);
+    /// Runs the kernel over the request without copying results back; for benchmarks.
+    void run(const Pattern& pattern, const SampleRequest& request) { dispatchAll(pattern, request, nullptr); }
+    /// Points ((pixel, sample) pairs) per dispatch for `dims`, from the device limits.
+    std::uint64_t pointsPerDispatch(std::uint32_t dims) const;
+    /// Caps points per dispatch below the device limits (tests use it to cover chunk seams).
+    void setMaxPointsPerDispatch(std::uint64_t points) { maxPointsPerDispatch_ = points; }
+
+private:
+    void dispatchAll(const Pattern& pattern, const SampleRequest& request, float* out);
+    vk::Context& context_;
+    std::unique_ptr<vk::ComputePipeline> pipeline_;
+    std::unique_ptr<vk::Buffer> buffer_;
+    std::uint64_t maxPointsPerDispatch_ = 0;
+};
+
+}  // namespace oas
