@@ -7,6 +7,16 @@
 // OAS_HASH_ONLY (a -D define) builds the same-shape kernel that only hashes: the benchmark's
 // practical ceiling for a per-(sample, dim) stateless sampler.
 #extension GL_GOOGLE_include_directive : require
+
+// Specialised per pattern kind (the host sets these from the pattern), so the branches of the
+// other constructions, offsets and field kinds fold away: lavapipe executes both sides of every
+// branch, and unspecialised the kernel runs ~20x slower there.
+layout(constant_id = 0) const uint oasSpecConstruction = 1u;
+layout(constant_id = 1) const uint oasSpecOffset = 3u;
+layout(constant_id = 2) const uint oasSpecFieldKind = 0u;
+#define OAS_STATIC_CONSTRUCTION oasSpecConstruction
+#define OAS_STATIC_OFFSET oasSpecOffset
+#define OAS_STATIC_FIELD_KIND oasSpecFieldKind
 #include "oas/oas.glsl"
 
 layout(local_size_x = 64) in;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <ostream>
 #include <random>
 #include <sstream>
 #include <string>
@@ -21,6 +22,8 @@ using oas::glsl::OasField;
 struct FieldCase {
     std::uint32_t p, k;
 };
+
+void PrintTo(const FieldCase& c, std::ostream* os) { *os << "GF(" << c.p << "^" << c.k << ")"; }
 
 std::uint32_t ipow(std::uint32_t b, std::uint32_t e)
 {
@@ -51,6 +54,9 @@ OasField libraryField(std::uint32_t p, std::uint32_t k)
     f.k = k;
     f.q = ipow(p, k);
     f.poly = oas::primitivePolynomial(p, k);
+    const oas::Divisor byP = oas::makeDivisor(p);
+    f.recipP = byP.recip;
+    f.shiftP = byP.shift;
     return f;
 }
 

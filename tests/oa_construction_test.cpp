@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -24,6 +25,8 @@ struct OaCase {
     std::uint32_t q;  ///< levels s (CMJND: s)
     std::uint32_t t;  ///< strength (CMJND: d)
 };
+
+void PrintTo(const OaCase& c, std::ostream* os) { *os << c.sampler << " q=" << c.q << " t=" << c.t; }
 
 std::uint32_t ipow(std::uint32_t b, std::uint32_t e)
 {

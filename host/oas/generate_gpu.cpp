@@ -18,11 +18,22 @@ struct GenerateParams {  // the push-constant block of oas_generate.comp
 static_assert(sizeof(GenerateParams) == 100);
 }  // namespace
 
-GpuGenerator::GpuGenerator(vk::Context& context, bool hashOnly) : context_(context)
+GpuGenerator::GpuGenerator(vk::Context& context, bool hashOnly) : context_(context), hashOnly_(hashOnly) {}
+
+vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
 {
-    const std::uint32_t* code = hashOnly ? oas_generate_hash_only_spv : oas_generate_spv;
-    const std::size_t bytes = hashOnly ? sizeof(oas_generate_hash_only_spv) : sizeof(oas_generate_spv);
-    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 1, sizeof(GenerateParams));
+    const std::uint32_t fieldKind = pattern.fieldK <= 1 ? 0u : (pattern.fieldP == 2 ? 1u : 2u);
+    const auto key = hashOnly_ ? std::make_tuple(0u, 0u, 0u) : std::make_tuple(pattern.construction, pattern.offset, fieldKind);
+    auto& slot = pipelines_[key];
+    if (!slot) {
+        const std::uint32_t* code = hashOnly_ ? oas_generate_hash_only_spv : oas_generate_spv;
+        const std::size_t bytes = hashOnly_ ? sizeof(oas_generate_hash_only_spv) : sizeof(oas_generate_spv);
+        const vk::ComputePipeline::SpecConstants spec = {
+            {0, std::get<0>(key)}, {1, std::get<1>(key)}, {2, std::get<2>(key)}};
+        slot = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 1, std::uint32_t(sizeof(GenerateParams)),
+                                                     hashOnly_ ? vk::ComputePipeline::SpecConstants{} : spec);
+    }
+    return *slot;
 }
 
 GpuGenerator::~GpuGenerator() = default;
@@ -56,6 +67,7 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
         buffer_ = std::make_unique<vk::Buffer>(context_, chunkBytes);
     }
     vk::Buffer* buffers[] = {buffer_.get()};
+    vk::ComputePipeline& pipeline = pipelineFor(pattern);
     const std::uint32_t maxGroupsX = context_.limits().maxComputeWorkGroupCount[0];
     for (std::uint64_t first = 0; first < totalPoints; first += chunk) {
         const std::uint64_t points = std::min(chunk, totalPoints - first);
@@ -65,7 +77,7 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
         const std::uint32_t workGroups = (items + kLocalSize - 1) / kLocalSize;
         const std::uint32_t gx = std::min(workGroups, maxGroupsX);
         const std::uint32_t gy = (workGroups + gx - 1) / gx;
-        context_.dispatch(*pipeline_, buffers, &params, sizeof(params), gx, gy);
+        context_.dispatch(pipeline, buffers, &params, sizeof(params), gx, gy);
         if (out) std::memcpy(out + first * r.dims, buffer_->data(), std::size_t(points) * r.dims * sizeof(float));
     }
 }

@@ -2,7 +2,9 @@
 // GPU generation of whole point sets with shaders/oas_generate.comp, in chunks that respect the
 // device's storage-buffer and work-group-count limits (lavapipe: 128 MiB, 65535 groups).
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <tuple>
 
 #include "oas/pattern.hpp"
 #include "vk/context.hpp"
@@ -26,8 +28,11 @@ public:
 
 private:
     void dispatchAll(const Pattern& pattern, const SampleRequest& request, float* out);
+    vk::ComputePipeline& pipelineFor(const Pattern& pattern);
     vk::Context& context_;
-    std::unique_ptr<vk::ComputePipeline> pipeline_;
+    bool hashOnly_;
+    /// One pipeline per (construction, offset, field kind) specialisation, made on first use.
+    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::unique_ptr<vk::ComputePipeline>> pipelines_;
     std::unique_ptr<vk::Buffer> buffer_;
     std::uint64_t maxPointsPerDispatch_ = 0;
 };

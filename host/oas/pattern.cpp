@@ -26,6 +26,9 @@ bool isPrime(std::uint32_t n)
 OasField makeField(std::uint32_t p, std::uint32_t k, std::uint32_t poly)
 {
     OasField f;
+    const Divisor byP = makeDivisor(p);
+    f.recipP = byP.recip;
+    f.shiftP = byP.shift;
     f.p = p;
     f.k = k;
     f.q = 1;
@@ -101,8 +104,26 @@ std::uint32_t defaultStrength(std::uint32_t code, std::uint32_t dims)
 
 /// The exact pattern for (sampler, spp, strength), or an empty optional-like Pattern (N = 0)
 /// with `why` set when spp cannot be made exactly.
-Pattern exactPattern(std::uint32_t code, std::uint32_t spp, std::uint32_t t, std::uint32_t offset,
-                     std::string& why)
+Pattern exactPatternFields(std::uint32_t code, std::uint32_t spp, std::uint32_t t, std::uint32_t offset,
+                           std::string& why);
+
+/// exactPattern plus the derived constants every shader divides by.
+Pattern exactPattern(std::uint32_t code, std::uint32_t spp, std::uint32_t t, std::uint32_t offset, std::string& why)
+{
+    Pattern pat = exactPatternFields(code, spp, t, offset, why);
+    if (pat.N == 0) return pat;
+    if (code < glsl::OAS_RANDOM) pat.aux2 = pat.N / pat.s;
+    const Divisor s = makeDivisor(pat.s), p = makeDivisor(std::max<std::uint32_t>(pat.fieldP, 1)),
+                  n = makeDivisor(pat.N);
+    pat.recipS = s.recip;
+    pat.recipP = p.recip;
+    pat.recipN = n.recip;
+    pat.recipShifts = s.shift | (p.shift << 8) | (n.shift << 16);
+    return pat;
+}
+
+Pattern exactPatternFields(std::uint32_t code, std::uint32_t spp, std::uint32_t t, std::uint32_t offset,
+                           std::string& why)
 {
     Pattern pat;
     pat.construction = code;
@@ -222,6 +243,15 @@ void checkCommon(const PatternRequest& r)
 }
 
 }  // namespace
+
+Divisor makeDivisor(std::uint32_t d)
+{
+    if (d == 0) throw std::invalid_argument("makeDivisor: division by zero");
+    std::uint32_t l = 0;
+    while ((std::uint64_t(1) << l) < d) ++l;  // ceil(log2 d)
+    const std::uint64_t recip = ((std::uint64_t(1) << 32) * ((std::uint64_t(1) << l) - d)) / d + 1;
+    return {std::uint32_t(recip), l};
+}
 
 const std::vector<std::string>& samplerNames()
 {

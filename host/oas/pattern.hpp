@@ -19,8 +19,14 @@ struct InvalidArgument : std::runtime_error {
 struct Pattern {
     std::uint32_t construction = 0, offset = 0, N = 0, s = 0, strength = 0, blockDims = 0;
     std::uint32_t fieldP = 0, fieldK = 0, fieldQ = 0, fieldPoly = 0, aux = 0, aux2 = 0;
-    std::uint32_t reserved[4] = {0, 0, 0, 0};
+    std::uint32_t recipS = 0, recipP = 0, recipN = 0, recipShifts = 0;
 };
+
+/// Constants for oas_fastdiv (Granlund-Montgomery): floor(x / d) == oas_fastdiv(x, recip, shift).
+struct Divisor {
+    std::uint32_t recip = 0, shift = 0;
+};
+Divisor makeDivisor(std::uint32_t d);
 static_assert(sizeof(Pattern) == 64);
 
 /// Largest points per pixel: the exact-strata limit (K <= 2^24 strata per dimension).

@@ -68,10 +68,10 @@
 /// Dimension `dim` of sample `index` for the pixel with seed `pixelSeed`. See the API above.
 float oas_sample(OasPattern pat, uint pixelSeed, uint index, uint dim)
 {
-    if (pat.construction >= OAS_RANDOM) {
+    if (OAS_CONSTRUCTION(pat) >= OAS_RANDOM) {
         uint seed = pixelSeed;
-        if (index >= pat.N) {
-            uint pass = index / pat.N;
+        uint pass = oas_div_n(pat, index);
+        if (pass != 0u) {
             index -= pass * pat.N;
             seed = oas_hash3(pixelSeed, pass, OAS_TAG_PASS);
         }

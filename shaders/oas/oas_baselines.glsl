@@ -63,10 +63,10 @@ const uint OAS_HALTON_BLOCK = 32u;
 /// Baseline samplers. `index` < N; passes (index >= N) are handled by oas_sample.
 float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
 {
-    if (pat.construction == OAS_RANDOM)
+    if (OAS_CONSTRUCTION(pat) == OAS_RANDOM)
         return float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24;
 
-    if (pat.construction == OAS_HALTON) {
+    if (OAS_CONSTRUCTION(pat) == OAS_HALTON) {
         uint block = dim / OAS_HALTON_BLOCK;
         uint base = oas_halton_base(dim - block * OAS_HALTON_BLOCK);
         uint blockSeed = oas_hash2(seed, block);
@@ -96,7 +96,7 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
     uint pairSeed = oas_hash2(seed, pair);
     uint i = oas_permute(index, pat.N, pairSeed ^ OAS_TAG_ROW);
     uint jitter = oas_hash3(pairSeed ^ OAS_TAG_JITTER, axis, index);
-    if (pat.construction == OAS_ZERO_TWO) {
+    if (OAS_CONSTRUCTION(pat) == OAS_ZERO_TWO) {
         uint x = axis == 0u ? oas_reverse_bits(i) : oas_sobol_dim1(i);
         return float(oas_owen_scramble24(x, oas_hash2(pairSeed, axis)) >> 8u) * OAS_INV_2POW24;
     }
@@ -104,7 +104,7 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
     uint ny = pat.aux2;
     uint cy = i / nx;
     uint cx = i - cy * nx;
-    if (pat.construction == OAS_JITTERED_2D)
+    if (OAS_CONSTRUCTION(pat) == OAS_JITTERED_2D)
         return axis == 0u ? oas_stratum_point(cx, nx, jitter) : oas_stratum_point(cy, ny, jitter);
     // OAS_CMJ_2D (Kensler 2013): the cell's x-substratum is a permutation of its row, shared by all
     // rows (and vice versa), which makes both 1D projections N-strata Latin hypercubes.

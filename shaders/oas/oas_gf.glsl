@@ -9,11 +9,28 @@
 /// coefficients as base-p digits, so x^k == g(x). The host finds g once per (p, k) (a primitive
 /// polynomial: the smallest g for which x has multiplicative order q - 1). For k = 1, poly = 0.
 struct OasField {
-    uint p;     ///< characteristic, a prime
-    uint k;     ///< degree of the extension
-    uint q;     ///< p^k
-    uint poly;  ///< g(x) packed base p: x^k == g(x)
+    uint p;       ///< characteristic, a prime
+    uint k;       ///< degree of the extension
+    uint q;       ///< p^k
+    uint poly;    ///< g(x) packed base p: x^k == g(x)
+    uint recipP;  ///< oas_fastdiv constants for dividing by p
+    uint shiftP;
 };
+
+// Field kinds, for shaders specialised on one (OAS_STATIC_FIELD_KIND, see oas_pattern.glsl).
+const uint OAS_FIELD_PRIME = 0u;         ///< k = 1
+const uint OAS_FIELD_BINARY = 1u;        ///< p = 2, k > 1
+const uint OAS_FIELD_ODD_EXTENSION = 2u; ///< p odd, k > 1
+#ifdef OAS_STATIC_FIELD_KIND
+#define OAS_FIELD_IS_PRIME(f) (OAS_STATIC_FIELD_KIND == OAS_FIELD_PRIME)
+#define OAS_FIELD_IS_BINARY(f) (OAS_STATIC_FIELD_KIND == OAS_FIELD_BINARY)
+#else
+#define OAS_FIELD_IS_PRIME(f) ((f).k == 1u)
+#define OAS_FIELD_IS_BINARY(f) ((f).p == 2u)
+#endif
+
+/// a mod p and a / p via the field's reciprocal.
+uint oas_gf_divp(OasField f, uint a) { return oas_fastdiv(a, f.recipP, f.shiftP); }
 
 /// y + c * a with digit-wise arithmetic mod p (a polynomial axpy over GF(p)); c < p.
 uint oas_gf_axpy(OasField f, uint y, uint a, uint c)
@@ -21,11 +38,14 @@ uint oas_gf_axpy(OasField f, uint y, uint a, uint c)
     uint r = 0u;
     uint place = 1u;
     for (uint i = 0u; i < f.k; ++i) {
-        uint d = (y % f.p + c * (a % f.p)) % f.p;
+        uint yNext = oas_gf_divp(f, y);
+        uint aNext = oas_gf_divp(f, a);
+        uint d = (y - yNext * f.p) + c * (a - aNext * f.p);  // < p + p^2 < 2^32
+        d -= oas_gf_divp(f, d) * f.p;
         r += d * place;
         place *= f.p;
-        y /= f.p;
-        a /= f.p;
+        y = yNext;
+        a = aNext;
     }
     return r;
 }
@@ -33,44 +53,64 @@ uint oas_gf_axpy(OasField f, uint y, uint a, uint c)
 /// a + b in GF(q).
 uint oas_gf_add(OasField f, uint a, uint b)
 {
-    if (f.k == 1u) {
+    if (OAS_FIELD_IS_PRIME(f)) {
         uint s = a + b;
         return s >= f.p ? s - f.p : s;
     }
-    if (f.p == 2u) return a ^ b;
+    if (OAS_FIELD_IS_BINARY(f)) return a ^ b;
     return oas_gf_axpy(f, a, b, 1u);
 }
 
 /// -a in GF(q).
 uint oas_gf_neg(OasField f, uint a)
 {
-    if (f.k == 1u) return a == 0u ? 0u : f.p - a;
-    if (f.p == 2u) return a;
+    if (OAS_FIELD_IS_PRIME(f)) return a == 0u ? 0u : f.p - a;
+    if (OAS_FIELD_IS_BINARY(f)) return a;
     return oas_gf_axpy(f, 0u, a, f.p - 1u);
 }
 
 /// a * x mod f(x): shift the digits up one place and fold the overflowing digit back via g.
 uint oas_gf_mulx(OasField f, uint a)
 {
-    uint placeTop = f.q / f.p;  // p^(k-1)
-    uint top = a / placeTop;
-    uint shifted = (a - top * placeTop) * f.p;
-    if (f.p == 2u) return top != 0u ? shifted ^ f.poly : shifted;
-    return oas_gf_axpy(f, shifted, f.poly, top);
+    if (OAS_FIELD_IS_BINARY(f)) {
+        uint shifted = (a << 1u) & (f.q - 1u);
+        return a >= (f.q >> 1u) ? shifted ^ f.poly : shifted;
+    }
+    uint top = a;  // the digit of x^(k-1): k-1 divisions by p
+    for (uint i = 1u; i < f.k; ++i) top = oas_gf_divp(f, top);
+    uint placeTop = oas_gf_divp(f, f.q);  // p^(k-1)
+    return oas_gf_axpy(f, (a - top * placeTop) * f.p, f.poly, top);
 }
 
 /// a * b in GF(q), by Horner's rule over the digits of b (most significant first).
 /// Prime fields take one multiply and one remainder (a, b < p < 2^16, so a*b < 2^32).
 uint oas_gf_mul(OasField f, uint a, uint b)
 {
-    if (f.k == 1u) return (a * b) % f.p;
+    if (OAS_FIELD_IS_PRIME(f)) {
+        uint product = a * b;
+        return product - oas_gf_divp(f, product) * f.p;
+    }
     uint r = 0u;
-    uint place = f.q / f.p;
+    if (OAS_FIELD_IS_BINARY(f)) {
+        for (uint i = f.k; i > 0u; --i) {
+            r = oas_gf_mulx(f, r);
+            if (((b >> (i - 1u)) & 1u) != 0u) r ^= a;
+        }
+        return r;
+    }
+    // Odd extension: b's digits least significant first, then Horner from the top one.
+    uint digits = 0u;  // b's digits reversed (base p), so Horner can pop them most significant first
+    uint rest = b;
     for (uint i = 0u; i < f.k; ++i) {
-        uint digit = (b / place) % f.p;
-        r = oas_gf_mulx(f, r);
-        if (digit != 0u) r = f.p == 2u ? r ^ a : oas_gf_axpy(f, r, a, digit);
-        place /= f.p;
+        uint next = oas_gf_divp(f, rest);
+        digits = digits * f.p + (rest - next * f.p);
+        rest = next;
+    }
+    for (uint i = 0u; i < f.k; ++i) {
+        uint next = oas_gf_divp(f, digits);
+        uint digit = digits - next * f.p;
+        digits = next;
+        r = oas_gf_axpy(f, oas_gf_mulx(f, r), a, digit);
     }
     return r;
 }
@@ -88,10 +128,10 @@ uint oas_gf_pow(OasField f, uint a, uint e)
     return result;
 }
 
-/// 1/a in GF(q) for a != 0 (a^(q-2), since a^(q-1) = 1). Returns 0 for a = 0.
+/// 1/a in GF(q) for a != 0 (a^(q-2), since a^(q-1) = 1). Undefined for a = 0.
 uint oas_gf_inv(OasField f, uint a) { return oas_gf_pow(f, a, f.q - 2u); }
 
 /// The field element n * 1 (n mod p, the constant polynomial), for small integers n.
-uint oas_gf_int(OasField f, uint n) { return n % f.p; }
+uint oas_gf_int(OasField f, uint n) { return n - oas_gf_divp(f, n) * f.p; }
 
 #endif // OAS_GF_GLSL

@@ -34,6 +34,19 @@ uint oas_mulhi(uint a, uint b)
     return hi;
 }
 
+/// floor(x / d) for any 32-bit x, by a multiply-high and shifts instead of a hardware divide
+/// (Granlund and Montgomery, "Division by invariant integers using multiplication", PLDI 1994,
+/// section 4): `recip` = floor(2^32 (2^l - d) / d) + 1 and `l` = ceil(log2 d), made once per
+/// divisor on the host (oas::makeDivisor). GPUs and lavapipe have no vector integer divide, so
+/// every divide by a per-pattern constant goes through here.
+uint oas_fastdiv(uint x, uint recip, uint l)
+{
+    uint t = oas_mulhi(x, recip);
+    uint shift1 = l == 0u ? 0u : 1u;
+    uint shift2 = l == 0u ? 0u : l - 1u;
+    return (t + ((x - t) >> shift1)) >> shift2;
+}
+
 /// A seeded pseudo-random permutation of [0, l), evaluated at i (i < l). Bijective for every
 /// seed and every l in [1, 2^32): each round below is a bijection of w-bit words (xor with a key,
 /// multiply by an odd number, xor-shift right, add a key, all modulo 2^w), and cycle-walking
@@ -103,6 +116,30 @@ float oas_stratum_point(uint m, uint K, uint u)
 {
     uint lo = oas_ceil_fixed24(m, K);
     uint hi = oas_ceil_fixed24(m + 1u, K);
+    return float(lo + oas_mulhi(hi - lo, u)) * OAS_INV_2POW24;
+}
+
+/// oas_stratum_point with the division by K done by oas_fastdiv (recip, l describe K); the same
+/// values, bit for bit. One long division gives both ends of the stratum: the upper end adds
+/// floor(2^24 / K) and 2^24 mod K to the lower end's quotient and remainder.
+float oas_stratum_point_fast(uint m, uint K, uint recip, uint l, uint u)
+{
+    uint r = m << 8u;  // m < K <= 2^24, so every r below stays under 2^32
+    uint d = oas_fastdiv(r, recip, l);
+    uint q = d;
+    r = (r - d * K) << 8u;
+    d = oas_fastdiv(r, recip, l);
+    q = (q << 8u) | d;
+    r = (r - d * K) << 8u;
+    d = oas_fastdiv(r, recip, l);
+    q = (q << 8u) | d;
+    r -= d * K;
+    uint lo = r != 0u ? q + 1u : q;
+    uint stepQ = oas_fastdiv(OAS_ONE_FIXED, recip, l);
+    uint r2 = r + (OAS_ONE_FIXED - stepQ * K);
+    uint q2 = q + stepQ;
+    if (r2 >= K) { r2 -= K; q2 += 1u; }
+    uint hi = r2 != 0u ? q2 + 1u : q2;
     return float(lo + oas_mulhi(hi - lo, u)) * OAS_INV_2POW24;
 }
 

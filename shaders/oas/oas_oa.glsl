@@ -10,7 +10,33 @@ OasField oas_pattern_field(OasPattern pat)
     f.k = pat.fieldK;
     f.q = pat.fieldQ;
     f.poly = pat.fieldPoly;
+    f.recipP = pat.recipP;
+    f.shiftP = (pat.recipShifts >> 8u) & 0xffu;
     return f;
+}
+
+/// Bush: the level of column `col` (< q) and the leading coefficient c_{t-1}, for the row with
+/// base-q digits c_0..c_{t-1}; the polynomial is evaluated from c_0 up with running powers x^i.
+uint oas_bush_level(OasPattern pat, OasField f, uint row, uint col)
+{
+    uint v = 0u;
+    uint power = 1u;  // col^i
+    uint digit = 0u;
+    for (uint i = 0u; i < pat.strength; ++i) {
+        uint next = oas_div_s(pat, row);
+        digit = row - next * pat.s;
+        row = next;
+        v = oas_gf_add(f, v, oas_gf_mul(f, digit, power));
+        power = oas_gf_mul(f, power, col);
+    }
+    return col == pat.s ? digit : v;  // column q is the leading coefficient
+}
+
+/// Base-s digit `col` of `row` (CMJND).
+uint oas_digit(OasPattern pat, uint row, uint col)
+{
+    for (uint d = 0u; d < col; ++d) row = oas_div_s(pat, row);
+    return row - oas_div_s(pat, row) * pat.s;
 }
 
 /// Level (in [0, s)) of row `row` (< N), column `col` (< blockDims) of the un-randomized array.
@@ -32,65 +58,48 @@ uint oas_oa_level(OasPattern pat, uint row, uint col)
 {
     OasField f = oas_pattern_field(pat);
     uint q = pat.s;
-    if (pat.construction == OAS_BOSE) {
-        uint a = row / q;
+    uint construction = OAS_CONSTRUCTION(pat);
+    if (construction == OAS_BOSE) {
+        uint a = oas_div_s(pat, row);
         uint b = row - a * q;
         if (col == 0u) return a;
         if (col == 1u) return b;
         return oas_gf_add(f, a, oas_gf_mul(f, col - 1u, b));
     }
-    if (pat.construction == OAS_BUSH) {
-        if (col == q) return row / pat.aux;
-        // Horner from the leading coefficient c_{t-1} down to c_0.
-        uint place = pat.aux;
-        uint v = 0u;
-        for (uint d = 0u; d < pat.strength; ++d) {
-            uint digit = (row / place) % q;
-            v = oas_gf_add(f, oas_gf_mul(f, v, col), digit);
-            place /= q;
-        }
-        return v;
-    }
-    if (pat.construction == OAS_BOSE_BUSH) {
-        uint i = row / q;
+    if (construction == OAS_BUSH) return oas_bush_level(pat, f, row, col);
+    if (construction == OAS_BOSE_BUSH) {
+        uint i = oas_div_s(pat, row);
         uint g = row - i * q;
         if (col == 2u * q) return i >> 1u;
         return (oas_gf_mul(f, i, col) & (q - 1u)) ^ g;
     }
-    if (pat.construction == OAS_ADDELMAN_KEMPTHORNE) {
-        uint qq = q * q;
-        uint h = row / qq;
-        uint rest = row - h * qq;
-        uint i = rest / q;
-        uint j = rest - i * q;
+    if (construction == OAS_ADDELMAN_KEMPTHORNE) {
+        uint hi = oas_div_s(pat, row);  // h*q + i
+        uint j = row - hi * q;
+        uint h = oas_div_s(pat, hi);
+        uint i = hi - h * q;
         if (col == 0u) return j;
         uint k = pat.aux;
+        uint kMinus1 = oas_gf_add(f, k, oas_gf_neg(f, 1u));
+        uint four = oas_gf_int(f, 4u);
         if (col <= q) {
             uint m = col - 1u;
             uint v = oas_gf_add(f, i, oas_gf_mul(f, m, j));
             if (h == 1u && m != 0u) {
                 // b_m = (k - 1) / (4 k m)
-                uint kMinus1 = oas_gf_add(f, k, oas_gf_neg(f, 1u));
-                uint denom = oas_gf_mul(f, oas_gf_int(f, 4u), oas_gf_mul(f, k, m));
+                uint denom = oas_gf_mul(f, four, oas_gf_mul(f, k, m));
                 v = oas_gf_add(f, v, oas_gf_mul(f, kMinus1, oas_gf_inv(f, denom)));
             }
             return v;
         }
         uint m = col - 1u - q;
-        uint ii = oas_gf_mul(f, i, i);
-        uint mi = oas_gf_mul(f, m, i);
-        if (h == 0u) return oas_gf_add(f, oas_gf_add(f, ii, mi), j);
+        uint quad = oas_gf_add(f, oas_gf_mul(f, i, i), oas_gf_mul(f, m, i));
+        if (h == 0u) return oas_gf_add(f, quad, j);
         // k i^2 + k m i + j + m^2 (k - 1) / 4
-        uint kMinus1 = oas_gf_add(f, k, oas_gf_neg(f, 1u));
-        uint c = oas_gf_mul(f, oas_gf_mul(f, oas_gf_mul(f, m, m), kMinus1),
-                            oas_gf_inv(f, oas_gf_int(f, 4u)));
-        uint v = oas_gf_mul(f, k, oas_gf_add(f, ii, mi));
-        return oas_gf_add(f, oas_gf_add(f, v, j), c);
+        uint c = oas_gf_mul(f, oas_gf_mul(f, oas_gf_mul(f, m, m), kMinus1), oas_gf_inv(f, four));
+        return oas_gf_add(f, oas_gf_add(f, oas_gf_mul(f, k, quad), j), c);
     }
-    // OAS_CMJND
-    uint place = 1u;
-    for (uint d = 0u; d < col; ++d) place *= q;
-    return (row / place) % q;
+    return oas_digit(pat, row, col);  // OAS_CMJND
 }
 
 /// Index in [0, N/s) of row `row` among the rows that share its level in column `col`: a
@@ -102,35 +111,41 @@ uint oas_oa_level(OasPattern pat, uint row, uint col)
 uint oas_oa_sublevel(OasPattern pat, uint row, uint col)
 {
     uint q = pat.s;
-    if (pat.construction == OAS_BOSE) {
+    uint construction = OAS_CONSTRUCTION(pat);
+    if (construction == OAS_BOSE) {
         uint partner = col ^ 1u;
         if (partner >= q + 1u) partner = 0u;  // q even: the last column pairs with column 0
         return oas_oa_level(pat, row, partner);
     }
-    if (pat.construction == OAS_BUSH) {
+    if (construction == OAS_BUSH) {
         // Given the level, the higher digits fix c_0 (x_j^0 = 1); for the leading-coefficient
         // column the lower t-1 digits are free.
-        if (col == q) return row % pat.aux;
-        return row / q;
+        if (col == q) return row - oas_bush_level(pat, oas_pattern_field(pat), row, col) * pat.aux;
+        return oas_div_s(pat, row);
     }
-    if (pat.construction == OAS_BOSE_BUSH) {
-        uint i = row / q;
+    if (construction == OAS_BOSE_BUSH) {
+        uint i = oas_div_s(pat, row);
         if (col == 2u * q) return (i & 1u) * q + (row - i * q);
         return i;  // for each i exactly one g gives the level
     }
-    if (pat.construction == OAS_ADDELMAN_KEMPTHORNE) {
-        uint qq = q * q;
-        uint h = row / qq;
-        uint rest = row - h * qq;
-        uint i = rest / q;
-        uint j = rest - i * q;
+    if (construction == OAS_ADDELMAN_KEMPTHORNE) {
+        uint hi = oas_div_s(pat, row);  // h*q + i
+        uint j = row - hi * q;
+        uint h = oas_div_s(pat, hi);
         if (col >= 1u && col <= q) return h * q + j;  // i + m j (+ b): j and h fix i
-        return h * q + i;                              // j, and the quadratic columns: i fixes j
+        return hi;                                     // j, and the quadratic columns: i fixes j
     }
     // OAS_CMJND: the row with digit `col` removed.
+    uint high = row;
+    uint low = 0u;
     uint place = 1u;
-    for (uint d = 0u; d < col; ++d) place *= q;
-    return (row / (place * q)) * place + row % place;
+    for (uint d = 0u; d < col; ++d) {
+        uint next = oas_div_s(pat, high);
+        low += (high - next * q) * place;
+        place *= q;
+        high = next;
+    }
+    return oas_div_s(pat, high) * place + low;
 }
 
 // Seed tags: fixed odd constants that separate the random streams of one dimension.
@@ -157,8 +172,8 @@ uint oas_pixel_seed(uint x, uint y, uint seed) { return oas_hash3(seed, x, y); }
 OasRow oas_row(OasPattern pat, uint pixelSeed, uint index, uint block)
 {
     uint seed = pixelSeed;
-    if (index >= pat.N) {
-        uint pass = index / pat.N;
+    uint pass = oas_div_n(pat, index);
+    if (pass != 0u) {
         index -= pass * pat.N;
         seed = oas_hash3(pixelSeed, pass, OAS_TAG_PASS);
     }
@@ -175,16 +190,18 @@ float oas_row_dim(OasPattern pat, OasRow r, uint col)
     uint colSeed = oas_hash2(r.blockSeed, col);
     uint level = oas_oa_level(pat, r.row, col);
     uint stratum = oas_permute(level, pat.s, colSeed ^ OAS_TAG_STRATUM);
+    uint offset = OAS_OFFSET(pat);
+    uint shiftS = pat.recipShifts & 0xffu;
+    if (offset == OAS_OFFSET_CENTERED) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, 0x80000000u);
     uint jitter = oas_hash2(colSeed ^ OAS_TAG_JITTER, r.index);
-    if (pat.offset == OAS_OFFSET_CENTERED) return oas_stratum_point(stratum, pat.s, 0x80000000u);
-    if (pat.offset == OAS_OFFSET_J) return oas_stratum_point(stratum, pat.s, jitter);
-    uint subCount = pat.N / pat.s;
+    if (offset == OAS_OFFSET_J) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, jitter);
+    uint subCount = pat.aux2;  // N / s
     // MJ draws a new substratum permutation for every stratum (Chiu, Shirley and Wang 1994);
     // CMJ shares one per dimension (Kensler 2013), correlating the pattern for better 2D spectra.
     uint subSeed = colSeed ^ OAS_TAG_SUB;
-    if (pat.offset == OAS_OFFSET_MJ) subSeed = oas_hash2(subSeed, level);
+    if (offset == OAS_OFFSET_MJ) subSeed = oas_hash2(subSeed, level);
     uint sub = oas_permute(oas_oa_sublevel(pat, r.row, col), subCount, subSeed);
-    return oas_stratum_point(stratum * subCount + sub, pat.N, jitter);
+    return oas_stratum_point_fast(stratum * subCount + sub, pat.N, pat.recipN, (pat.recipShifts >> 16u) & 0xffu, jitter);
 }
 
 #endif // OAS_OA_GLSL

@@ -37,11 +37,31 @@ struct OasPattern {
     uint fieldQ;       ///<   size p^k
     uint fieldPoly;    ///<   reduction polynomial (see OasField)
     uint aux;          ///< Bush: q^(t-1); Addelman-Kempthorne: a non-square of GF(q); 2D baselines: nx
-    uint aux2;         ///< 2D baselines: ny
-    uint reserved0;
-    uint reserved1;
-    uint reserved2;
-    uint reserved3;
+    uint aux2;         ///< OAs: N / s (substrata per stratum); 2D baselines: ny
+    uint recipS;       ///< oas_fastdiv constants for dividing by s, p and N ...
+    uint recipP;
+    uint recipN;
+    uint recipShifts;  ///< ... and their shifts l: s in bits 0-7, p in 8-15, N in 16-23
 };
+
+// A shader that evaluates one kind of pattern can fix these at compile time (for instance with
+// specialization constants) by defining OAS_STATIC_CONSTRUCTION, OAS_STATIC_OFFSET and
+// OAS_STATIC_FIELD_KIND before including oas.glsl. They must equal the pattern's own values.
+// Software rasterisers such as lavapipe run both sides of every branch, so folding the branches
+// of the constructions a shader does not use is what makes it fast there.
+#ifdef OAS_STATIC_CONSTRUCTION
+#define OAS_CONSTRUCTION(pat) OAS_STATIC_CONSTRUCTION
+#else
+#define OAS_CONSTRUCTION(pat) ((pat).construction)
+#endif
+#ifdef OAS_STATIC_OFFSET
+#define OAS_OFFSET(pat) OAS_STATIC_OFFSET
+#else
+#define OAS_OFFSET(pat) ((pat).offset)
+#endif
+
+/// floor(x / s), floor(x / N) for the pattern's s and N.
+uint oas_div_s(OasPattern pat, uint x) { return oas_fastdiv(x, pat.recipS, pat.recipShifts & 0xffu); }
+uint oas_div_n(OasPattern pat, uint x) { return oas_fastdiv(x, pat.recipN, (pat.recipShifts >> 16u) & 0xffu); }
 
 #endif // OAS_PATTERN_GLSL

@@ -1,0 +1,133 @@
+// Sample-generation throughput: sample-dims/s of every construction on the CPU (one thread, all
+// threads) and the GPU, with the same-shape hash-only kernel as the practical ceiling, measured
+// in the same run. Prints figures; asserts nothing (machines are shared and noisy).
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+#include <vector>
+
+#include "oas/generate_gpu.hpp"
+#include "oas/pattern.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+template <class F>
+double medianSeconds(int repeats, F&& f)
+{
+    std::vector<double> t;
+    for (int i = 0; i < repeats; ++i) {
+        const auto start = Clock::now();
+        f();
+        t.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+    }
+    std::sort(t.begin(), t.end());
+    return t[t.size() / 2];
+}
+
+struct Row {
+    const char* sampler;
+    std::uint32_t spp, strength;
+    const char* offset;
+};
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    CLI::App app{"oas-bench: sample-dims/s per construction on CPU and GPU"};
+    std::uint32_t pixels = 16384, dims = 8;
+    int repeats = 3;
+    bool quick = false, noGpu = false;
+    app.add_option("--pixels", pixels, "pixels per run")->check(CLI::Range(1u, 1u << 24));
+    app.add_option("--dims", dims, "dimensions per sample")->check(CLI::Range(1u, 4096u));
+    app.add_option("--repeats", repeats, "runs per figure (median reported)")->check(CLI::Range(1, 100));
+    app.add_flag("--quick", quick, "1024 pixels, one repeat: a smoke run");
+    app.add_flag("--no-gpu", noGpu, "CPU figures only");
+    CLI11_PARSE(app, argc, argv);
+    if (quick) {
+        pixels = 1024;
+        repeats = 1;
+    }
+    const std::vector<Row> rows = {
+        {"bose", 121, 0, "cmj"},        {"bose", 121, 0, "mj"},        {"bose", 121, 0, "j"},
+        {"bose", 64, 0, "cmj"}, {"bush", 125, 3, "mj"},      {"bose-bush", 128, 0, "cmj"},
+        {"addelman-kempthorne", 162, 0, "cmj"}, {"cmjnd", 256, 8, "cmj"}, {"random", 121, 0, "cmj"},
+        {"jittered2d", 121, 0, "cmj"}, {"cmj2d", 121, 0, "cmj"},       {"zerotwo", 128, 0, "cmj"},
+        {"halton", 121, 0, "cmj"},
+    };
+    std::unique_ptr<oas::vk::Context> context;
+    std::unique_ptr<oas::GpuGenerator> gpu, hashOnly;
+    if (!noGpu) {
+        oas::vk::selectLavapipeIfUnset();
+        try {
+            context = std::make_unique<oas::vk::Context>();
+            gpu = std::make_unique<oas::GpuGenerator>(*context);
+            hashOnly = std::make_unique<oas::GpuGenerator>(*context, true);
+        } catch (const oas::vk::NoDeviceError& e) {
+            std::printf("GPU: SKIPPED (no Vulkan device: %s)\n", e.what());
+        }
+    }
+    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+    std::printf("oas-bench: %u pixels x spp x %u dims, median of %d; CPU threads: %u; GPU: %s\n", pixels, dims, repeats,
+                threads, context ? context->deviceName().c_str() : "none");
+    std::printf("%-34s %6s %14s %14s %14s %12s\n", "sampler", "spp", "CPU 1 thr M/s", "CPU all M/s", "GPU M/s",
+                "GPU/hash");
+    // Whole-image CPU buffers get large; the CPU runs cover a slice of the pixels and scale.
+    const std::uint32_t cpuPixels = std::min<std::uint32_t>(pixels, 4096);
+    double hashRate = 0;
+    for (int pass = 0; pass < 2; ++pass) {
+        for (const Row& row : rows) {
+            if (pass == 0 && row.sampler != std::string("bose")) continue;  // ceiling first
+            oas::PatternRequest req;
+            req.sampler = row.sampler;
+            req.spp = row.spp;
+            req.strength = row.strength;
+            req.dims = dims;
+            req.offset = row.offset;
+            const oas::Pattern pattern = oas::makePattern(req);
+            oas::SampleRequest r;
+            r.width = pixels;
+            r.height = 1;
+            r.spp = pattern.N;
+            r.dims = dims;
+            const double sampleDims = double(pixels) * r.spp * dims;
+            if (pass == 0) {
+                if (hashOnly) {
+                    hashOnly->run(pattern, r);  // warm-up: pipeline and buffer creation
+                    hashRate = sampleDims / medianSeconds(repeats, [&] { hashOnly->run(pattern, r); }) / 1e6;
+                    std::printf("%-34s %6u %14s %14s %14.1f %12s\n", "hash-only kernel (ceiling)", r.spp, "-", "-",
+                                hashRate, "1.00");
+                }
+                break;
+            }
+            oas::SampleRequest cr = r;
+            cr.width = cpuPixels;
+            std::vector<float> out(std::size_t(cpuPixels) * r.spp * dims);
+            const double cpuDims = double(cpuPixels) * r.spp * dims;
+            const std::uint32_t onePixels = std::max<std::uint32_t>(1, cpuPixels / 8);
+            oas::SampleRequest one = r;
+            one.width = onePixels;
+            const double cpu1 = double(onePixels) * r.spp * dims /
+                                medianSeconds(repeats, [&] { oas::generateCpu(pattern, one, out.data(), 1); }) / 1e6;
+            const double cpuN =
+                cpuDims / medianSeconds(repeats, [&] { oas::generateCpu(pattern, cr, out.data(), threads); }) / 1e6;
+            double gpuRate = 0;
+            if (gpu) {
+                gpu->run(pattern, r);
+                gpuRate = sampleDims / medianSeconds(repeats, [&] { gpu->run(pattern, r); }) / 1e6;
+            }
+            const std::string label = oas::describe(pattern).substr(0, 34);
+            if (gpu)
+                std::printf("%-34s %6u %14.1f %14.1f %14.1f %12.2f\n", label.c_str(), r.spp, cpu1, cpuN, gpuRate,
+                            hashRate > 0 ? gpuRate / hashRate : 0.0);
+            else
+                std::printf("%-34s %6u %14.1f %14.1f %14s %12s\n", label.c_str(), r.spp, cpu1, cpuN, "-", "-");
+            std::fflush(stdout);
+        }
+    }
+    return 0;
+}
