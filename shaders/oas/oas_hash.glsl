@@ -48,38 +48,44 @@ uint oas_fastdiv(uint x, uint recip, uint l)
 }
 
 /// A seeded pseudo-random permutation of [0, l), evaluated at i (i < l). Bijective for every
-/// seed and every l in [1, 2^32): each round below is a bijection of w-bit words (xor with a key,
-/// multiply by an odd number, xor-shift right, add a key, all modulo 2^w), and cycle-walking
+/// seed and every l in [1, 2^32): each of the four rounds below is a bijection of w-bit words
+/// (xor with a key, multiply by an odd key, add a key, xor-shift right, all modulo 2^w), and cycle-walking
 /// (Black and Rogaway 2002, as used by Kensler's "Correlated Multi-Jittered Sampling", Pixar
 /// Technical Memo 13-01) restricts that bijection of [0, 2^w) to [0, l). Because 2^w < 2l the
-/// walk takes fewer than two rounds on average. Unlike Kensler's final `(i + p) % l`, nothing here
-/// can wrap past 2^32, so the result stays a permutation for seeds near 2^32 too.
+/// walk takes fewer than two passes on average. Unlike Kensler's final `(i + p) % l`, nothing here
+/// can wrap past 2^32, so the result stays a permutation for seeds near 2^32 too. Round keys come
+/// from the seed by a 32-bit LCG read through its high bits (its low bits have short periods);
+/// four keyed rounds make small permutations (l = 2, 3, 5 ...) close to uniformly distributed.
 uint oas_permute(uint i, uint l, uint seed)
 {
     if (l <= 1u) return 0u;
     uint w = l - 1u;
     w |= w >> 1u; w |= w >> 2u; w |= w >> 4u; w |= w >> 8u; w |= w >> 16u;
-    // Half the word width (at least 1): the xor-shift distance that mixes high bits into low.
+    // About half the word width (at least 1): the xor-shift distance that mixes high bits into low.
     uint shift = 1u;
-    if (w > 0x3u) shift = 2u;
-    if (w > 0xfu) shift = 3u;
-    if (w > 0xffu) shift = 5u;
-    if (w > 0xfffu) shift = 7u;
-    if (w > 0xffffu) shift = 9u;
+    if (w > 0xfu) shift = 2u;
+    if (w > 0xffu) shift = 4u;
+    if (w > 0xfffu) shift = 6u;
+    if (w > 0xffffu) shift = 8u;
+    if (w > 0xfffffu) shift = 10u;
     if (w > 0xffffffu) shift = 13u;
-    uint k0 = seed;
-    uint k1 = (seed >> 16u) | (seed << 16u);
-    uint k2 = seed * 0x2c1b3c6du;
+    uint k = seed * 0x2c1b3c6du + 0x297a2d39u;
+    uint k0 = k ^ (k >> 16u);
+    k = k * 0x2c1b3c6du + 0x297a2d39u;
+    uint k1 = k ^ (k >> 16u);
+    k = k * 0x2c1b3c6du + 0x297a2d39u;
+    uint k2 = k ^ (k >> 16u);
+    k = k * 0x2c1b3c6du + 0x297a2d39u;
+    uint k3 = k ^ (k >> 16u);
     do {
-        i ^= k0;
-        i = (i * 0xe31a5a27u) & w;
+        i = ((i ^ k0) * ((k0 >> 15u) | 1u) + (k0 >> 24u)) & w;
         i ^= i >> shift;
-        i = (i + k1) & w;
-        i = (i * (k2 | 1u)) & w;
+        i = ((i ^ k1) * ((k1 >> 15u) | 1u) + (k1 >> 24u)) & w;
         i ^= i >> shift;
-        i = (i ^ (k2 >> 7u)) & w;
-        i = (i * 0x9e3779b1u) & w;
-        i ^= i >> (shift + 1u);
+        i = ((i ^ k2) * ((k2 >> 15u) | 1u) + (k2 >> 24u)) & w;
+        i ^= i >> shift;
+        i = ((i ^ k3) * ((k3 >> 15u) | 1u) + (k3 >> 24u)) & w;
+        i ^= i >> shift;
     } while (i >= l);
     return i;
 }
