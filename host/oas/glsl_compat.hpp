@@ -7,6 +7,7 @@
 // Everything lands in an anonymous namespace: each translation unit gets private copies of the
 // (non-inline) GLSL functions, so any file may include this header without ODR clashes. Host APIs
 // therefore pass oas::Pattern (host/oas/pattern.hpp) and convert with oas::glsl::toGlsl().
+#include <bit>
 #include <cstdint>
 #include <cstring>
 
@@ -22,6 +23,9 @@ inline void umulExtended(uint x, uint y, uint& msb, uint& lsb)
     msb = uint(product >> 32);
     lsb = uint(product);
 }
+
+/// GLSL bitCount: the number of set bits.
+inline int bitCount(uint v) { return std::popcount(v); }
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"

@@ -48,14 +48,16 @@ uint oas_fastdiv(uint x, uint recip, uint l)
 }
 
 /// A seeded pseudo-random permutation of [0, l), evaluated at i (i < l). Bijective for every
-/// seed and every l in [1, 2^32): each of the four rounds below is a bijection of w-bit words
-/// (xor with a key, multiply by an odd key, add a key, xor-shift right, all modulo 2^w), and cycle-walking
-/// (Black and Rogaway 2002, as used by Kensler's "Correlated Multi-Jittered Sampling", Pixar
-/// Technical Memo 13-01) restricts that bijection of [0, 2^w) to [0, l). Because 2^w < 2l the
-/// walk takes fewer than two passes on average. Unlike Kensler's final `(i + p) % l`, nothing here
-/// can wrap past 2^32, so the result stays a permutation for seeds near 2^32 too. Round keys come
-/// from the seed by a 32-bit LCG read through its high bits (its low bits have short periods);
-/// four keyed rounds make small permutations (l = 2, 3, 5 ...) close to uniformly distributed.
+/// seed and every l in [1, 2^32). Three steps, each a bijection:
+///  1. four keyed rounds on w-bit words, w = ceil(log2 l): xor a key, multiply by an odd key, add a
+///     key, xor-shift right, all modulo 2^w;
+///  2. cycle-walking (Black and Rogaway 2002, as in Kensler's "Correlated Multi-Jittered
+///     Sampling", Pixar Technical Memo 13-01) restricts that bijection of [0, 2^w) to [0, l); as
+///     2^w < 2l the walk takes under two passes on average;
+///  3. a rotation by r in [0, l) (r = l * hash / 2^32, no division), which makes every input's
+///     image uniformly distributed over seeds even for tiny l, where step 1 alone is biased.
+/// Kensler's final `(i + p) % l` wraps past 2^32 for p > 2^32 - l and then is no permutation;
+/// step 3 compares before adding, so nothing here wraps.
 uint oas_permute(uint i, uint l, uint seed)
 {
     if (l <= 1u) return 0u;
@@ -69,7 +71,8 @@ uint oas_permute(uint i, uint l, uint seed)
     if (w > 0xffffu) shift = 8u;
     if (w > 0xfffffu) shift = 10u;
     if (w > 0xffffffu) shift = 13u;
-    uint k = seed * 0x2c1b3c6du + 0x297a2d39u;
+    // Round keys from a 32-bit LCG read through its high bits (its low bits have short periods).
+    uint k = oas_pcg(seed);
     uint k0 = k ^ (k >> 16u);
     k = k * 0x2c1b3c6du + 0x297a2d39u;
     uint k1 = k ^ (k >> 16u);
@@ -87,7 +90,8 @@ uint oas_permute(uint i, uint l, uint seed)
         i = ((i ^ k3) * ((k3 >> 15u) | 1u) + (k3 >> 24u)) & w;
         i ^= i >> shift;
     } while (i >= l);
-    return i;
+    uint rotation = oas_mulhi(k * 0x2c1b3c6du + 0x297a2d39u, l);
+    return i >= l - rotation ? i - (l - rotation) : i + rotation;
 }
 
 /// ceil(m * 2^24 / K) for m <= K and 1 <= K <= 2^24, in 32-bit integers: the smallest 24-bit
