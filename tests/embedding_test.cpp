@@ -200,7 +200,8 @@ TEST(Embedding, OtherRendererShaderCompilesWithGlslang)
     const std::string bytes = readFile(spv);
     std::error_code ec;
     fs::remove(spv, ec);
-    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << command << "\n" << output;
+    const bool compiled = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    ASSERT_TRUE(compiled) << "glslangValidator failed: " << command << "\n" << output;
     ASSERT_GE(bytes.size(), 20u) << "no SPIR-V written\n" << output;
     std::uint32_t magic;
     std::memcpy(&magic, bytes.data(), 4);

@@ -2,6 +2,7 @@
 // coordinates up to 16383), every dimension across several OA blocks, and sample indices past N
 // (further passes). The CPU side runs the same GLSL source compiled as C++.
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,11 +55,21 @@ void compare(oas::GpuGenerator& gpu, const oas::Pattern& pattern, const oas::Sam
     expectBitIdentical(a, b, what);
 }
 
-class GpuCpu : public GpuTest {};
+/// One generator for the whole file: its specialised pipelines compile once (seconds each on
+/// lavapipe with validation), not once per test.
+class GpuCpu : public GpuTest {
+protected:
+    oas::GpuGenerator& generator()
+    {
+        static std::unique_ptr<oas::GpuGenerator> shared;
+        if (!shared) shared = std::make_unique<oas::GpuGenerator>(context());
+        return *shared;
+    }
+};
 
 TEST_F(GpuCpu, EveryOrthogonalArrayAndOffset)
 {
-    oas::GpuGenerator gpu(context());
+    oas::GpuGenerator& gpu = generator();
     for (const Case& c : oaCases()) {
         for (const char* offset : {"centered", "j", "mj", "cmj"}) {
             oas::PatternRequest req;
@@ -83,7 +94,7 @@ TEST_F(GpuCpu, EveryOrthogonalArrayAndOffset)
 
 TEST_F(GpuCpu, EveryBaseline)
 {
-    oas::GpuGenerator gpu(context());
+    oas::GpuGenerator& gpu = generator();
     for (const char* sampler : {"random", "jittered2d", "cmj2d", "zerotwo", "halton"}) {
         for (std::uint32_t spp : {1u, 7u, 64u, 100u, 1024u}) {
             oas::PatternRequest req;
@@ -105,7 +116,7 @@ TEST_F(GpuCpu, EveryBaseline)
 
 TEST_F(GpuCpu, ManyPixelsInSeveralDispatchChunks)
 {
-    oas::GpuGenerator gpu(context());
+    oas::GpuGenerator& gpu = generator();
     oas::PatternRequest req;
     req.sampler = "bose";
     req.spp = 121;
@@ -120,8 +131,58 @@ TEST_F(GpuCpu, ManyPixelsInSeveralDispatchChunks)
     gpu.setMaxPointsPerDispatch(1001);
     compare(gpu, pattern, r, "bose 121 x 1200 pixels x 29 dims in 1001-point chunks");
     // The default chunking of the same request must agree too.
-    oas::GpuGenerator whole(context());
-    compare(whole, pattern, r, "bose 121 x 1200 pixels x 29 dims, device-limit chunks");
+    gpu.setMaxPointsPerDispatch(0);
+    compare(gpu, pattern, r, "bose 121 x 1200 pixels x 29 dims, device-limit chunks");
+}
+
+TEST_F(GpuCpu, HardCasesLargestFieldsLastIndicesEdgeSeeds)
+{
+    oas::GpuGenerator& gpu = generator();
+    const Case hard[] = {{"bose", 4093u * 4093u, 0},          {"bose", 4096u * 4096u, 0},
+                         {"bose", 2187u * 2187u, 0},          {"bush", 256u * 256u * 256u, 3},
+                         {"bush", 243u * 243u * 243u, 3},     {"bose-bush", 2u * 2048u * 2048u, 0},
+                         {"addelman-kempthorne", 2u * 2187u * 2187u, 0},
+                         {"addelman-kempthorne", 2u * 2039u * 2039u, 0},
+                         {"cmjnd", 1u << 24, 24},             {"cmjnd", 14348907u, 15}};
+    for (const Case& c : hard) {
+        for (const char* offset : {"centered", "j", "mj", "cmj"}) {
+            oas::PatternRequest req;
+            req.sampler = c.sampler;
+            req.spp = c.spp;
+            req.strength = c.strength;
+            req.dims = c.strength ? c.strength : 2;
+            req.offset = offset;
+            const oas::Pattern pattern = oas::makePattern(req);
+            for (std::uint32_t seed : {0u, 1u, 0xffffffffu, 0u - pattern.N}) {
+                oas::SampleRequest r;
+                r.x0 = 16382;
+                r.y0 = 16383;
+                r.width = 2;
+                r.height = 1;
+                r.firstSample = pattern.N - 20;  // the last indices and the first of the next pass
+                r.spp = 40;
+                r.dims = std::min<std::uint32_t>(pattern.blockDims, 48) + 2;
+                r.seed = seed;
+                compare(gpu, pattern, r, oas::describe(pattern) + " seed " + std::to_string(seed));
+            }
+        }
+    }
+}
+
+TEST_F(GpuCpu, LargestBoseFullSetOnTheGpu)
+{
+    // All 2^24 points of Bose q = 4096 in 2 dims, generated on the GPU: a 2^24-strata Latin
+    // hypercube in each dimension (the finest strata the fixed point expresses) and equal to the CPU.
+    oas::GpuGenerator& gpu = generator();
+    oas::PatternRequest req;
+    req.sampler = "bose";
+    req.spp = 4096u * 4096u;
+    const oas::Pattern pattern = oas::makePattern(req);
+    oas::SampleRequest r;
+    r.spp = pattern.N;
+    r.dims = 2;
+    r.seed = 0xffffffffu;
+    compare(gpu, pattern, r, "bose q=4096 all 2^24 points");
 }
 
 }  // namespace

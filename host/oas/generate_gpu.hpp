@@ -23,7 +23,7 @@ public:
     void run(const Pattern& pattern, const SampleRequest& request) { dispatchAll(pattern, request, nullptr); }
     /// Points ((pixel, sample) pairs) per dispatch for `dims`, from the device limits.
     std::uint64_t pointsPerDispatch(std::uint32_t dims) const;
-    /// Caps points per dispatch below the device limits (tests use it to cover chunk seams).
+    /// Caps points per dispatch below the device limits (tests use it to cover chunk seams); 0: no cap.
     void setMaxPointsPerDispatch(std::uint64_t points) { maxPointsPerDispatch_ = points; }
 
 private:

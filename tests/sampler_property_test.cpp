@@ -1,0 +1,284 @@
+// Properties of the randomized samplers, checked on the CPU twin with exact integer strata:
+// strength-t stratification of every t-subset of dimensions within each OA block, the 1D Latin
+// hypercube where promised, fresh passes past N, distinct randomization per pixel, dimension and
+// block, and the numeric contract over the hard cases (largest fields and N, edge seeds, last
+// indices, pixel coordinates up to 16383).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include "oas/glsl_compat.hpp"
+#include "oas/pattern.hpp"
+#include "oas/stratification.hpp"
+
+namespace {
+
+struct Config {
+    const char* sampler;
+    std::uint32_t spp, strength;
+};
+
+std::vector<Config> smallConfigs()
+{
+    return {{"bose", 4, 0},        {"bose", 9, 0},       {"bose", 16, 0},      {"bose", 25, 0},
+            {"bose", 49, 0},       {"bose", 64, 0},      {"bose", 81, 0},      {"bose", 121, 0},
+            {"bush", 9, 2},        {"bush", 27, 3},      {"bush", 64, 3},      {"bush", 125, 3},
+            {"bush", 256, 4},      {"bush", 625, 4},     {"bush", 512, 3},     {"bose-bush", 8, 0},
+            {"bose-bush", 32, 0},  {"bose-bush", 128, 0}, {"addelman-kempthorne", 18, 0},
+            {"addelman-kempthorne", 50, 0}, {"addelman-kempthorne", 98, 0}, {"addelman-kempthorne", 162, 0},
+            {"cmjnd", 4, 2},       {"cmjnd", 8, 3},      {"cmjnd", 27, 3},     {"cmjnd", 81, 4},
+            {"cmjnd", 32, 5},      {"cmjnd", 25, 2},     {"cmjnd", 216, 3}};
+}
+
+oas::Pattern patternOf(const Config& c, const char* offset)
+{
+    oas::PatternRequest r;
+    r.sampler = c.sampler;
+    r.spp = c.spp;
+    r.strength = c.strength;
+    r.dims = c.strength ? c.strength : 2;
+    r.offset = offset;
+    return oas::makePattern(r);
+}
+
+std::vector<float> points(const oas::Pattern& p, std::uint32_t dims, std::uint32_t x, std::uint32_t y,
+                          std::uint32_t seed, std::uint32_t firstSample = 0)
+{
+    oas::SampleRequest r;
+    r.x0 = x;
+    r.y0 = y;
+    r.spp = p.N;
+    r.dims = dims;
+    r.seed = seed;
+    r.firstSample = firstSample;
+    std::vector<float> out(std::size_t(p.N) * dims);
+    oas::generateCpu(p, r, out.data(), 1);
+    return out;
+}
+
+/// Every t-subset of columns in [lo, hi) stratified into s^t cells (exhaustive).
+void expectStrength(const std::vector<float>& pts, const oas::Pattern& p, std::uint32_t dims, std::uint32_t lo,
+                    std::uint32_t hi, const std::string& what)
+{
+    const std::uint32_t t = p.strength;
+    if (hi - lo < t) return;
+    std::vector<std::uint32_t> cols(t);
+    for (std::uint32_t i = 0; i < t; ++i) cols[i] = lo + i;
+    while (true) {
+        ASSERT_TRUE(oas::isStratified(pts.data(), p.N, dims, cols, p.s)) << what << ": columns from " << cols[0];
+        int i = int(t) - 1;
+        while (i >= 0 && cols[i] == hi - t + std::uint32_t(i)) --i;
+        if (i < 0) break;
+        ++cols[i];
+        for (std::uint32_t j = std::uint32_t(i) + 1; j < t; ++j) cols[j] = cols[j - 1] + 1;
+    }
+}
+
+TEST(Stratification, EveryTSubsetOfEveryBlockForEveryOffset)
+{
+    for (const Config& c : smallConfigs()) {
+        for (const char* offset : {"centered", "j", "mj", "cmj"}) {
+            const oas::Pattern p = patternOf(c, offset);
+            const std::uint32_t dims = std::min<std::uint32_t>(2 * p.blockDims + 1, 40);  // 2+ blocks
+            for (std::uint32_t pixel = 0; pixel < 3; ++pixel) {
+                // Pass 0 and pass 1 (indices N .. 2N-1) are each a complete randomized OA.
+                for (std::uint32_t pass = 0; pass < 2; ++pass) {
+                    const auto pts = points(p, dims, 16383 - pixel, pixel * 7, 0xfffffff0u + pixel, pass * p.N);
+                    const std::string what = oas::describe(p) + " pixel " + std::to_string(pixel) + " pass " +
+                                             std::to_string(pass);
+                    for (std::uint32_t lo = 0; lo < dims; lo += p.blockDims)
+                        expectStrength(pts, p, dims, lo, std::min(dims, lo + p.blockDims), what);
+                    const bool lhs = std::string(offset) == "mj" || std::string(offset) == "cmj";
+                    for (std::uint32_t d = 0; d < dims; ++d)
+                        ASSERT_TRUE(oas::isStratified(pts.data(), p.N, dims, {d}, lhs ? p.N : p.s))
+                            << what << " 1D dim " << d;
+                }
+            }
+        }
+    }
+}
+
+TEST(Stratification, BaselinesKeepWhatTheyPromise)
+{
+    for (std::uint32_t spp : {16u, 64u, 100u, 121u, 128u}) {
+        for (const char* sampler : {"jittered2d", "cmj2d", "zerotwo"}) {
+            oas::PatternRequest r;
+            r.sampler = sampler;
+            r.spp = spp;
+            const oas::Pattern p = oas::makePattern(r);
+            const std::uint32_t dims = 6;
+            const auto pts = points(p, dims, 5, 9, 3);
+            for (std::uint32_t d = 0; d + 1 < dims; d += 2) {
+                if (std::string(sampler) == "zerotwo") {
+                    // (0,2)-nets exist for powers of two: every elementary 2D interval holds one point.
+                    if ((spp & (spp - 1)) != 0) continue;
+                    std::uint32_t bits = 0;
+                    while ((1u << bits) < spp) ++bits;
+                    for (std::uint32_t bx = 0; bx <= bits; ++bx) {
+                        std::set<std::uint64_t> cells;
+                        for (std::uint32_t i = 0; i < spp; ++i)
+                            cells.insert(std::uint64_t(oas::stratumOf(pts[i * dims + d], 1u << bx)) << 32 |
+                                         oas::stratumOf(pts[i * dims + d + 1], 1u << (bits - bx)));
+                        EXPECT_EQ(cells.size(), spp) << sampler << " " << spp << " interval 2^" << bx;
+                    }
+                } else {
+                    std::set<std::uint64_t> cells;
+                    for (std::uint32_t i = 0; i < spp; ++i)
+                        cells.insert(std::uint64_t(oas::stratumOf(pts[i * dims + d], p.aux)) << 32 |
+                                     oas::stratumOf(pts[i * dims + d + 1], p.aux2));
+                    EXPECT_EQ(cells.size(), spp) << sampler << " " << spp << " pair " << d;
+                    if (std::string(sampler) == "cmj2d") {
+                        EXPECT_TRUE(oas::isStratified(pts.data(), spp, dims, {d}, spp));
+                        EXPECT_TRUE(oas::isStratified(pts.data(), spp, dims, {d + 1}, spp));
+                    }
+                }
+            }
+        }
+    }
+}
+
+TEST(Randomization, DistinctPerPixelDimensionAndBlock)
+{
+    oas::PatternRequest r;
+    r.sampler = "bose";
+    r.spp = 121;
+    const oas::Pattern p = oas::makePattern(r);
+    const std::uint32_t dims = 3 * p.blockDims;
+    const auto a = points(p, dims, 0, 0, 0);
+    const auto b = points(p, dims, 1, 0, 0);
+    const auto c = points(p, dims, 0, 1, 0);
+    for (std::uint32_t d = 0; d < dims; ++d) {
+        // Dimension 0 included: every dimension's strata order differs between pixels.
+        std::vector<std::uint32_t> sa, sb, sc;
+        for (std::uint32_t i = 0; i < p.N; ++i) {
+            sa.push_back(oas::stratumOf(a[i * dims + d], p.s));
+            sb.push_back(oas::stratumOf(b[i * dims + d], p.s));
+            sc.push_back(oas::stratumOf(c[i * dims + d], p.s));
+        }
+        EXPECT_NE(sa, sb) << "dim " << d << " has the same strata sequence in pixels (0,0) and (1,0)";
+        EXPECT_NE(sa, sc) << "dim " << d << " has the same strata sequence in pixels (0,0) and (0,1)";
+    }
+    // No repeated columns across blocks: a cross-block pair is not collapsed onto few cells (a
+    // repeated column puts all points on q of the q^2 cells) and not identical.
+    for (std::uint32_t d = 0; d < p.blockDims; ++d) {
+        for (std::uint32_t block = 1; block < 3; ++block) {
+            const std::uint32_t e = d + block * p.blockDims;
+            std::set<std::uint32_t> cells;
+            for (std::uint32_t i = 0; i < p.N; ++i)
+                cells.insert(oas::stratumOf(a[i * dims + d], p.s) * p.s + oas::stratumOf(a[i * dims + e], p.s));
+            EXPECT_GT(cells.size(), 2 * p.s) << "dims " << d << " and " << e;
+        }
+    }
+    // Different user seeds give different point sets.
+    EXPECT_NE(points(p, 2, 0, 0, 0), points(p, 2, 0, 0, 1));
+}
+
+TEST(Randomization, SampleIsAPureFunction)
+{
+    // Evaluating one value alone equals the batched fast path (oas_row + oas_row_dim) value.
+    for (const Config& c : smallConfigs()) {
+        const oas::Pattern p = patternOf(c, "cmj");
+        const std::uint32_t dims = p.blockDims + 3;
+        const auto pts = points(p, dims, 12, 34, 56, 7);
+        const std::uint32_t seed = oas::pixelSeed(12, 34, 56);
+        for (std::uint32_t i = 0; i < p.N; i += 7)
+            for (std::uint32_t d = 0; d < dims; ++d)
+                ASSERT_EQ(oas::sample(p, seed, 7 + i, d), pts[std::size_t(i) * dims + d]) << oas::describe(p);
+    }
+}
+
+/// The numeric contract on one value: in [0,1), a multiple of 2^-24 (so exact strata apply).
+void expectValid(float x, const std::string& what)
+{
+    ASSERT_TRUE(x >= 0.0f && x < 1.0f) << what << ": " << x;
+    const double scaled = double(x) * 16777216.0;
+    ASSERT_EQ(double(std::uint64_t(scaled)), scaled) << what;
+}
+
+struct HardCase {
+    const char* sampler;
+    std::uint32_t spp, strength;
+};
+
+std::vector<HardCase> hardCases()
+{
+    return {{"bose", 4093u * 4093u, 0},       // largest prime q with q^2 <= 2^24
+            {"bose", 4096u * 4096u, 0},       // largest q: GF(2^12), N = 2^24
+            {"bose", 2187u * 2187u, 0},       // GF(3^7)
+            {"bush", 256u * 256u * 256u, 3},  // N = 2^24, GF(2^8), 257 dims
+            {"bush", 243u * 243u * 243u, 3},  // GF(3^5), N = 14348907
+            {"bose-bush", 2u * 2048u * 2048u, 0},  // GF(2^12) mapped to q = 2^11
+            {"addelman-kempthorne", 2u * 2187u * 2187u, 0},  // GF(3^7), N = 9565938
+            {"addelman-kempthorne", 2u * 2039u * 2039u, 0},  // a large odd prime
+            {"cmjnd", 1u << 24, 24},          // s = 2, d = 24
+            {"cmjnd", 14348907u, 15}};        // s = 3, d = 15
+}
+
+TEST(HardCases, LargestFieldsAndCountsStayExact)
+{
+    std::mt19937 rng(99);
+    for (const HardCase& h : hardCases()) {
+        for (const char* offset : {"j", "cmj"}) {
+            oas::PatternRequest r;
+            r.sampler = h.sampler;
+            r.spp = h.spp;
+            r.strength = h.strength;
+            r.dims = h.strength ? h.strength : 2;
+            r.offset = offset;
+            const oas::Pattern p = oas::makePattern(r);
+            const std::uint32_t dims = std::min<std::uint32_t>(p.blockDims, 64) + 2;
+            std::vector<std::uint32_t> indices = {0, 1, p.N - 1, p.N - 2, p.N, 2 * p.N - 1, 0xffffffffu};
+            for (int i = 0; i < 24; ++i) indices.push_back(rng() % p.N);
+            for (std::uint32_t seed : {0u, 1u, 0xffffffffu, 0u - p.N, 0u - p.N - 1}) {
+                for (std::uint32_t px : {0u, 16383u}) {
+                    const std::uint32_t pixelSeed = oas::pixelSeed(px, 16383 - px, seed);
+                    for (std::uint32_t i : indices)
+                        for (std::uint32_t d = 0; d < dims; ++d)
+                            expectValid(oas::sample(p, pixelSeed, i, d),
+                                        oas::describe(p) + " index " + std::to_string(i) + " dim " + std::to_string(d));
+                }
+            }
+        }
+    }
+}
+
+TEST(HardCases, LargestBoseIsALatinHypercubeIn2Pow24Strata)
+{
+    // N = 4096^2 = 2^24 points: the finest strata the fixed point can express; and q = 4093,
+    // the largest prime, where N is not a power of two.
+    for (std::uint32_t q : {4096u, 4093u}) {
+        oas::PatternRequest r;
+        r.sampler = "bose";
+        r.spp = q * q;
+        r.dims = 2;
+        const oas::Pattern p = oas::makePattern(r);
+        const auto pts = points(p, 2, 16383, 16383, 0xffffffffu);
+        for (std::uint32_t d = 0; d < 2; ++d)
+            EXPECT_TRUE(oas::isStratified(pts.data(), p.N, 2, {d}, p.N)) << oas::describe(p) << " dim " << d;
+        EXPECT_TRUE(oas::isStratified(pts.data(), p.N, 2, {0, 1}, p.s)) << oas::describe(p);
+    }
+}
+
+TEST(Stratification, CheckerCanFail)
+{
+    // Independent random points are not Latin hypercubes; a duplicated point breaks a stratified set.
+    oas::PatternRequest r;
+    r.sampler = "random";
+    r.spp = 64;
+    const oas::Pattern p = oas::makePattern(r);
+    const auto pts = points(p, 2, 0, 0, 0);
+    EXPECT_FALSE(oas::isStratified(pts.data(), 64, 2, {0}, 64));
+    r.sampler = "bose";
+    auto good = points(oas::makePattern(r), 2, 0, 0, 0);
+    ASSERT_TRUE(oas::isStratified(good.data(), 64, 2, {0, 1}, 8));
+    good[2] = good[0];
+    good[3] = good[1];
+    EXPECT_FALSE(oas::isStratified(good.data(), 64, 2, {0, 1}, 8));
+    EXPECT_THROW(oas::stratumOf(1.0f, 8), std::domain_error);
+    EXPECT_THROW(oas::stratumOf(0.1f, 8), std::domain_error);  // not a multiple of 2^-24
+}
+
+}  // namespace
