@@ -1,7 +1,6 @@
 // oas-samples: print one pixel's point set of any sampler, so people can look at and check a
 // pattern. Values are printed with 9 significant digits, which round-trips every float32 exactly.
 #include <CLI/CLI.hpp>
-#include <cinttypes>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -43,6 +42,23 @@ std::string toNpy(const std::vector<float>& values, std::uint32_t dims)
     return out;
 }
 
+/// "X,Y" with plain decimal digits only (no sign, no spaces), each in 0 .. 2^32 - 1.
+std::pair<std::uint32_t, std::uint32_t> parsePixel(const std::string& text)
+{
+    const auto bad = [&] {
+        return oas::InvalidArgument("--pixel '" + text + "' must be X,Y with integers in 0 .. 4294967295");
+    };
+    const auto comma = text.find(',');
+    if (comma == std::string::npos) throw bad();
+    auto number = [&](const std::string& part) {
+        if (part.empty() || part.size() > 10 || part.find_first_not_of("0123456789") != std::string::npos) throw bad();
+        const std::uint64_t v = std::stoull(part);
+        if (v > 0xffffffffull) throw bad();
+        return std::uint32_t(v);
+    };
+    return {number(text.substr(0, comma)), number(text.substr(comma + 1))};
+}
+
 void printList(std::uint32_t spp, std::uint32_t dims, std::uint32_t strength)
 {
     std::printf("samplers (valid spp near %u, %u dims%s):\n", spp, dims,
@@ -53,7 +69,10 @@ void printList(std::uint32_t spp, std::uint32_t dims, std::uint32_t strength)
     for (auto& name : names) {
         auto counts = oas::validCounts(name, strength, dims, lo, hi);
         std::string list;
-        for (std::size_t i = 0; i < counts.size() && i < 12; ++i) list += (i ? " " : "") + std::to_string(counts[i]);
+        for (std::size_t i = 0; i < counts.size() && i < 12; ++i) {
+            if (i) list += ' ';
+            list += std::to_string(counts[i]);
+        }
         if (counts.size() > 12) list += " ...";
         std::printf("  %-20s %s\n  %-20s spp in [%u, %u]: %s\n", name.c_str(), oas::samplerDescription(name).c_str(), "",
                     lo, hi, list.empty() ? "none" : list.c_str());
@@ -89,7 +108,7 @@ int main(int argc, char** argv)
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        app.exit(e);
+        std::cerr << "oas-samples: error: " << e.what() << "\n" << "run with --help for the options\n";
         return 2;
     }
     if (list) {
@@ -98,16 +117,7 @@ int main(int argc, char** argv)
     }
     try {
         if (request.spp == 0) throw oas::InvalidArgument("--spp is required (1 .. 16777216)");
-        std::uint32_t px = 0, py = 0;
-        {
-            std::uint64_t x = 0, y = 0;
-            char comma = 0, extra = 0;
-            if (std::sscanf(pixel.c_str(), "%" SCNu64 "%c%" SCNu64 "%c", &x, &comma, &y, &extra) != 3 || comma != ',' ||
-                x > 0xffffffffu || y > 0xffffffffu)
-                throw oas::InvalidArgument("--pixel '" + pixel + "' must be X,Y with integers in 0 .. 4294967295");
-            px = std::uint32_t(x);
-            py = std::uint32_t(y);
-        }
+        const auto [px, py] = parsePixel(pixel);
         oas::Pattern pattern;
         std::string chosen = request.sampler;
         if (request.sampler == "oa") {

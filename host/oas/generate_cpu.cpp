@@ -7,15 +7,7 @@
 #include "oas/pattern.hpp"
 
 namespace oas {
-namespace {
-glsl::OasPattern toGlsl(const Pattern& p)
-{
-    glsl::OasPattern g;
-    static_assert(sizeof(g) == sizeof(p));
-    std::memcpy(&g, &p, sizeof(g));
-    return g;
-}
-}  // namespace
+using glsl::toGlsl;
 
 float sample(const Pattern& pattern, std::uint32_t seed, std::uint32_t index, std::uint32_t dim)
 {

@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "oas/pattern.hpp"
+
 namespace oas::glsl {
 namespace {
 
@@ -34,6 +36,15 @@ inline int bitCount(uint v) { return std::popcount(v); }
 #pragma GCC diagnostic pop
 
 static_assert(sizeof(OasPattern) == 16 * sizeof(uint), "OasPattern must stay 16 uints");
+static_assert(sizeof(OasPattern) == sizeof(oas::Pattern), "oas::Pattern mirrors OasPattern");
+
+/// The host's oas::Pattern as this translation unit's OasPattern (the same 16 uints).
+inline OasPattern toGlsl(const oas::Pattern& p)
+{
+    OasPattern g;
+    std::memcpy(&g, &p, sizeof(g));
+    return g;
+}
 
 }  // namespace
 }  // namespace oas::glsl

@@ -374,6 +374,11 @@ Pattern makePattern(const PatternRequest& request)
     if (info.code == glsl::OAS_CMJND && request.strength == 0 && request.dims > 24)
         throw InvalidArgument("cmjnd: dims " + std::to_string(request.dims) +
                               " is too many for one full factorial (s^d <= 2^24 needs d <= 24); pass --strength d to pad with blocks of d dims");
+    const bool strengthTwoOnly = info.code == glsl::OAS_BOSE || info.code == glsl::OAS_BOSE_BUSH ||
+                                 info.code == glsl::OAS_ADDELMAN_KEMPTHORNE;
+    if (strengthTwoOnly && t != 2)
+        throw InvalidArgument("sampler '" + request.sampler + "' has strength 2 only (strength " + std::to_string(t) +
+                              " asked): use bush or cmjnd for strength 3 and more");
     std::string why;
     Pattern pat = exactPattern(info.code, request.spp, t, offset, why);
     if (pat.N != 0) return pat;
