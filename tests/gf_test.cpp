@@ -13,6 +13,7 @@
 
 #include "oas/glsl_compat.hpp"
 #include "oas/pattern.hpp"
+#include "test_cases.hpp"
 #include "textbook_oa.hpp"
 
 namespace {
@@ -25,12 +26,7 @@ struct FieldCase {
 
 void PrintTo(const FieldCase& c, std::ostream* os) { *os << "GF(" << c.p << "^" << c.k << ")"; }
 
-std::uint32_t ipow(std::uint32_t b, std::uint32_t e)
-{
-    std::uint32_t r = 1;
-    while (e--) r *= b;
-    return r;
-}
+using oas::test::ipow;
 
 std::vector<FieldCase> fieldCases()
 {

@@ -9,6 +9,7 @@
 #include "gpu_test_support.hpp"
 #include "oas/generate_gpu.hpp"
 #include "oas/pattern.hpp"
+#include "test_cases.hpp"
 
 namespace {
 
@@ -138,13 +139,7 @@ TEST_F(GpuCpu, ManyPixelsInSeveralDispatchChunks)
 TEST_F(GpuCpu, HardCasesLargestFieldsLastIndicesEdgeSeeds)
 {
     oas::GpuGenerator& gpu = generator();
-    const Case hard[] = {{"bose", 4093u * 4093u, 0},          {"bose", 4096u * 4096u, 0},
-                         {"bose", 2187u * 2187u, 0},          {"bush", 256u * 256u * 256u, 3},
-                         {"bush", 243u * 243u * 243u, 3},     {"bose-bush", 2u * 2048u * 2048u, 0},
-                         {"addelman-kempthorne", 2u * 2187u * 2187u, 0},
-                         {"addelman-kempthorne", 2u * 2039u * 2039u, 0},
-                         {"cmjnd", 1u << 24, 24},             {"cmjnd", 14348907u, 15}};
-    for (const Case& c : hard) {
+    for (const oas::test::SamplerCase& c : oas::test::hardCases()) {
         for (const char* offset : {"centered", "j", "mj", "cmj"}) {
             oas::PatternRequest req;
             req.sampler = c.sampler;

@@ -16,6 +16,7 @@
 
 #include "oas/glsl_compat.hpp"
 #include "oas/pattern.hpp"
+#include "test_cases.hpp"
 #include "textbook_oa.hpp"
 
 namespace {
@@ -28,12 +29,7 @@ struct OaCase {
 
 void PrintTo(const OaCase& c, std::ostream* os) { *os << c.sampler << " q=" << c.q << " t=" << c.t; }
 
-std::uint32_t ipow(std::uint32_t b, std::uint32_t e)
-{
-    std::uint32_t r = 1;
-    while (e--) r *= b;
-    return r;
-}
+using oas::test::ipow;
 
 std::vector<OaCase> oaCases()
 {

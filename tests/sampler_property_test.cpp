@@ -13,6 +13,7 @@
 #include "oas/glsl_compat.hpp"
 #include "oas/pattern.hpp"
 #include "oas/stratification.hpp"
+#include "test_cases.hpp"
 
 namespace {
 
@@ -198,29 +199,10 @@ void expectValid(float x, const std::string& what)
     ASSERT_EQ(double(std::uint64_t(scaled)), scaled) << what;
 }
 
-struct HardCase {
-    const char* sampler;
-    std::uint32_t spp, strength;
-};
-
-std::vector<HardCase> hardCases()
-{
-    return {{"bose", 4093u * 4093u, 0},       // largest prime q with q^2 <= 2^24
-            {"bose", 4096u * 4096u, 0},       // largest q: GF(2^12), N = 2^24
-            {"bose", 2187u * 2187u, 0},       // GF(3^7)
-            {"bush", 256u * 256u * 256u, 3},  // N = 2^24, GF(2^8), 257 dims
-            {"bush", 243u * 243u * 243u, 3},  // GF(3^5), N = 14348907
-            {"bose-bush", 2u * 2048u * 2048u, 0},  // GF(2^12) mapped to q = 2^11
-            {"addelman-kempthorne", 2u * 2187u * 2187u, 0},  // GF(3^7), N = 9565938
-            {"addelman-kempthorne", 2u * 2039u * 2039u, 0},  // a large odd prime
-            {"cmjnd", 1u << 24, 24},          // s = 2, d = 24
-            {"cmjnd", 14348907u, 15}};        // s = 3, d = 15
-}
-
 TEST(HardCases, LargestFieldsAndCountsStayExact)
 {
     std::mt19937 rng(99);
-    for (const HardCase& h : hardCases()) {
+    for (const oas::test::SamplerCase& h : oas::test::hardCases()) {
         for (const char* offset : {"j", "cmj"}) {
             oas::PatternRequest r;
             r.sampler = h.sampler;

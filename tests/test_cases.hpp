@@ -1,0 +1,37 @@
+#pragma once
+// Parameter sets shared by several test files, so the CPU and GPU suites cover the same cases.
+#include <cstdint>
+#include <vector>
+
+namespace oas::test {
+
+/// A sampler request: name, spp, strength (0: the sampler's default).
+struct SamplerCase {
+    const char* sampler;
+    std::uint32_t spp, strength;
+};
+
+/// The numerically hardest patterns: the largest fields and N, GF(2^k) and GF(3^k), s = 2 and 3.
+inline std::vector<SamplerCase> hardCases()
+{
+    return {{"bose", 4093u * 4093u, 0},                    // largest prime q with q^2 <= 2^24
+            {"bose", 4096u * 4096u, 0},                    // largest q: GF(2^12), N = 2^24
+            {"bose", 2187u * 2187u, 0},                    // GF(3^7)
+            {"bush", 256u * 256u * 256u, 3},               // N = 2^24, GF(2^8), 257 dims
+            {"bush", 243u * 243u * 243u, 3},               // GF(3^5), N = 14348907
+            {"bose-bush", 2u * 2048u * 2048u, 0},          // GF(2^12) mapped to q = 2^11
+            {"addelman-kempthorne", 2u * 2187u * 2187u, 0},  // GF(3^7), N = 9565938
+            {"addelman-kempthorne", 2u * 2039u * 2039u, 0},  // a large odd prime
+            {"cmjnd", 1u << 24, 24},                       // s = 2, d = 24
+            {"cmjnd", 14348907u, 15}};                     // s = 3, d = 15
+}
+
+/// Integer power (no overflow checks: test sizes only).
+inline std::uint32_t ipow(std::uint32_t base, std::uint32_t exponent)
+{
+    std::uint32_t r = 1;
+    while (exponent--) r *= base;
+    return r;
+}
+
+}  // namespace oas::test
