@@ -42,11 +42,13 @@ int main(int argc, char** argv)
     std::uint32_t pixels = 16384, dims = 8;
     int repeats = 3;
     bool quick = false, noGpu = false;
+    std::string only;
     app.add_option("--pixels", pixels, "pixels per run")->check(CLI::Range(1u, 1u << 24));
     app.add_option("--dims", dims, "dimensions per sample")->check(CLI::Range(1u, 4096u));
     app.add_option("--repeats", repeats, "runs per figure (median reported)")->check(CLI::Range(1, 100));
     app.add_flag("--quick", quick, "1024 pixels, one repeat: a smoke run");
     app.add_flag("--no-gpu", noGpu, "CPU figures only");
+    app.add_option("--only", only, "run only samplers whose name contains this text");
     CLI11_PARSE(app, argc, argv);
     if (quick) {
         pixels = 1024;
@@ -82,6 +84,7 @@ int main(int argc, char** argv)
     for (int pass = 0; pass < 2; ++pass) {
         for (const Row& row : rows) {
             if (pass == 0 && row.sampler != std::string("bose")) continue;  // ceiling first
+            if (pass == 1 && !only.empty() && std::string(row.sampler).find(only) == std::string::npos) continue;
             oas::PatternRequest req;
             req.sampler = row.sampler;
             req.spp = row.spp;

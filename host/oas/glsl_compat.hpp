@@ -29,6 +29,9 @@ inline void umulExtended(uint x, uint y, uint& msb, uint& lsb)
 /// GLSL bitCount: the number of set bits.
 inline int bitCount(uint v) { return std::popcount(v); }
 
+/// GLSL findMSB: index of the highest set bit, -1 for 0.
+inline int findMSB(uint v) { return v == 0 ? -1 : 31 - std::countl_zero(v); }
+
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
 #pragma GCC diagnostic ignored "-Wunused-variable"

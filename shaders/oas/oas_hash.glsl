@@ -49,7 +49,7 @@ uint oas_fastdiv(uint x, uint recip, uint l)
 
 /// A seeded pseudo-random permutation of [0, l), evaluated at i (i < l). Bijective for every
 /// seed and every l in [1, 2^32). Three steps, each a bijection:
-///  1. four keyed rounds on w-bit words, w = ceil(log2 l): xor a key, multiply by an odd key, add a
+///  1. three keyed rounds on w-bit words, w = ceil(log2 l): xor a key, multiply by an odd key, add a
 ///     key, xor-shift right, all modulo 2^w;
 ///  2. cycle-walking (Black and Rogaway 2002, as in Kensler's "Correlated Multi-Jittered
 ///     Sampling", Pixar Technical Memo 13-01) restricts that bijection of [0, 2^w) to [0, l); as
@@ -61,33 +61,23 @@ uint oas_fastdiv(uint x, uint recip, uint l)
 uint oas_permute(uint i, uint l, uint seed)
 {
     if (l <= 1u) return 0u;
-    uint w = l - 1u;
-    w |= w >> 1u; w |= w >> 2u; w |= w >> 4u; w |= w >> 8u; w |= w >> 16u;
+    uint bits = uint(findMSB(l - 1u)) + 1u;  // w = ceil(log2 l) bits
+    uint w = 0xffffffffu >> (32u - bits);
     // About half the word width (at least 1): the xor-shift distance that mixes high bits into low.
-    uint shift = 1u;
-    if (w > 0xfu) shift = 2u;
-    if (w > 0xffu) shift = 4u;
-    if (w > 0xfffu) shift = 6u;
-    if (w > 0xffffu) shift = 8u;
-    if (w > 0xfffffu) shift = 10u;
-    if (w > 0xffffffu) shift = 13u;
+    uint shift = (bits + 1u) >> 1u;
     // Round keys from a 32-bit LCG read through its high bits (its low bits have short periods).
-    uint k = oas_pcg(seed);
+    uint k = seed * 0x2c1b3c6du + 0x297a2d39u;
     uint k0 = k ^ (k >> 16u);
     k = k * 0x2c1b3c6du + 0x297a2d39u;
     uint k1 = k ^ (k >> 16u);
     k = k * 0x2c1b3c6du + 0x297a2d39u;
     uint k2 = k ^ (k >> 16u);
-    k = k * 0x2c1b3c6du + 0x297a2d39u;
-    uint k3 = k ^ (k >> 16u);
     do {
         i = ((i ^ k0) * ((k0 >> 15u) | 1u) + (k0 >> 24u)) & w;
         i ^= i >> shift;
         i = ((i ^ k1) * ((k1 >> 15u) | 1u) + (k1 >> 24u)) & w;
         i ^= i >> shift;
         i = ((i ^ k2) * ((k2 >> 15u) | 1u) + (k2 >> 24u)) & w;
-        i ^= i >> shift;
-        i = ((i ^ k3) * ((k3 >> 15u) | 1u) + (k3 >> 24u)) & w;
         i ^= i >> shift;
     } while (i >= l);
     uint rotation = oas_mulhi(k * 0x2c1b3c6du + 0x297a2d39u, l);

@@ -1,0 +1,121 @@
+// oas-diff: compare a rendered OpenEXR image with a reference, printing MSE, relMSE and RMSE over
+// R, G, B (alpha ignored) for the whole image and optionally a crop, and optionally writing a
+// false-colour PNG of the per-pixel relative squared error.
+//
+// Exit status: 0 on success; 2 for bad arguments, unreadable images, or images that cannot be
+// compared (different sizes, crop outside the image), with a message on stderr and nothing on
+// stdout; 1 when the error PNG cannot be written.
+#include <CLI/CLI.hpp>
+#include <fmt/core.h>
+
+#include <charconv>
+#include <cmath>
+#include <iostream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "image/image.hpp"
+#include "image/metrics.hpp"
+
+namespace {
+
+struct UsageError : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
+};
+
+/// Parses "x,y,w,h": four unsigned decimal integers, w and h at least 1, nothing else.
+oas::image::Crop parseCrop(const std::string& text)
+{
+    std::uint32_t v[4] = {};
+    const char* p = text.data();
+    const char* end = text.data() + text.size();
+    for (int i = 0; i < 4; ++i) {
+        if (i > 0) {
+            if (p == end || *p != ',') break;
+            ++p;
+        }
+        if (p == end || *p < '0' || *p > '9')
+            throw UsageError("--crop must be x,y,w,h (four unsigned integers), not '" + text + "'");
+        const auto [next, ec] = std::from_chars(p, end, v[i]);
+        if (ec != std::errc())
+            throw UsageError("--crop must be x,y,w,h (four unsigned integers), not '" + text + "'");
+        p = next;
+    }
+    if (p != end) throw UsageError("--crop must be x,y,w,h (four unsigned integers), not '" + text + "'");
+    if (v[2] == 0 || v[3] == 0) throw UsageError("--crop width and height must be at least 1, not '" + text + "'");
+    return {v[0], v[1], v[2], v[3]};
+}
+
+std::string number(double v)
+{
+    return fmt::format("{:.8e}", v);
+}
+
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    CLI::App app{"oas-diff: compare an OpenEXR image with a reference (MSE, relMSE, RMSE over RGB)"};
+    app.footer("relMSE = mean over pixels and R,G,B of (I - R)^2 / (R^2 + eps).\n"
+               "Exit status: 0 ok, 2 bad arguments or unreadable/incomparable images, 1 error PNG not written.");
+    std::string imagePath, referencePath, cropText, errorPng;
+    double epsilon = 1e-2;
+    app.add_option("IMAGE", imagePath, "the image to measure (OpenEXR)")->required();
+    app.add_option("REF", referencePath, "the reference image (OpenEXR), same size")->required();
+    app.add_option("--crop", cropText, "also report the crop x,y,w,h (pixels, origin top left)");
+    app.add_option("--error-png", errorPng, "write a false-colour PNG of the per-pixel relative squared error "
+                                            "(log scale, 1e-5 .. 10)");
+    app.add_option("--epsilon", epsilon, "eps of relMSE (default 0.01)");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        std::cerr << "oas-diff: error: " << e.what() << "\n" << "run with --help for the options\n";
+        return 2;
+    }
+
+    oas::image::Image image, reference;
+    std::vector<std::pair<std::string, oas::image::ErrorMetrics>> rows;
+    try {
+        if (!(epsilon > 0) || !std::isfinite(epsilon))
+            throw UsageError("--epsilon must be a finite number > 0, not " + fmt::format("{}", epsilon));
+        std::optional<oas::image::Crop> crop;
+        if (!cropText.empty()) crop = parseCrop(cropText);
+        image = oas::image::readExr(imagePath);
+        reference = oas::image::readExr(referencePath);
+        rows.emplace_back(fmt::format("whole {}x{}", image.width, image.height),
+                          oas::image::compare(image, reference, std::nullopt, epsilon));
+        if (crop)
+            rows.emplace_back(fmt::format("crop {},{},{},{}", crop->x, crop->y, crop->w, crop->h),
+                              oas::image::compare(image, reference, crop, epsilon));
+    } catch (const std::exception& e) {
+        std::cerr << "oas-diff: error: " << e.what() << "\n";
+        return 2;
+    }
+
+    if (!errorPng.empty()) {
+        try {
+            oas::image::FalseColourOptions options;
+            options.relEpsilon = epsilon;
+            oas::image::writePngPreview(errorPng, oas::image::falseColourError(image, reference, options));
+        } catch (const std::exception& e) {
+            std::cerr << "oas-diff: error: " << e.what() << "\n";
+            return 1;
+        }
+    }
+
+    std::size_t regionWidth = std::string("region").size();
+    for (const auto& row : rows) regionWidth = std::max(regionWidth, row.first.size());
+    std::string out = fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", "region", regionWidth, "pixels", "MSE",
+                                  "relMSE", "RMSE");
+    for (const auto& [label, m] : rows)
+        out += fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", label, regionWidth, m.pixels, number(m.mse),
+                           number(m.relMse), number(m.rmse));
+    out += fmt::format("(RGB, alpha ignored; relMSE eps = {})\n", epsilon);
+    std::cout << out;
+    if (!errorPng.empty()) std::cerr << "wrote " << errorPng << "\n";
+    return 0;
+}
