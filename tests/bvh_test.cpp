@@ -406,12 +406,15 @@ TEST(Bvh, PointsOnALine) {
 }
 
 TEST(Bvh, DepthStaysBoundedOnExponentialSpacing) {
-    // Centroids at 2^k: each binned split would peel off one primitive (depth ~ n); the median
-    // fallback near the limit keeps the depth under kBvhMaxDepth for the GPU stack.
+    // Centroids at (2^i, 2^j): binned splits peel off only a few primitives per level, along x
+    // and then along y, which unchecked gives a depth over 90. The median fallback near the
+    // limit keeps every node at depth < kBvhMaxDepth for the GPU stack.
     std::vector<Aabb> prims;
-    for (int k = -60; k < 100; ++k) {
-        const float x = std::ldexp(1.f, k);
-        for (int j = 0; j < 3; ++j) prims.push_back(box({x, float(j), 0}, {x * 1.5f, float(j), 1}));
+    for (int i = -140; i < 127; i += 2) {
+        for (int j = -140; j < 127; j += 2) {
+            const float x = std::ldexp(1.f, i), y = std::ldexp(1.f, j);
+            prims.push_back(box({x, y, 0}, {x * 1.5f, y * 1.5f, 1}));
+        }
     }
     for (std::uint32_t maxLeaf : {1u, 4u}) {
         Bvh bvh = buildBvh(prims, maxLeaf);
@@ -420,7 +423,7 @@ TEST(Bvh, DepthStaysBoundedOnExponentialSpacing) {
         std::printf("exponential spacing, maxLeaf %u: depth %u\n", maxLeaf,
                     oas::scene::bvhDepth(bvh));
         // Queries still agree with brute force.
-        for (const auto& p : {prims[10], prims[200], prims[400]}) {
+        for (const auto& p : {prims[0], prims[200], prims[4000], prims.back()}) {
             Ray r{{p.lo.x, p.lo.y, -1}, {0, 0, 1}, kInf};
             const Hit a = closestBoxBvh(bvh, prims, r), b = closestBoxBrute(prims, r);
             EXPECT_EQ(a.hit, b.hit);
@@ -439,7 +442,9 @@ TEST(Bvh, RandomBoxesClosestHitMatchesBruteForce) {
         for (const Ray& r : randomRays(rng, 3000)) {
             const Hit a = closestBoxBvh(bvh, prims, r), b = closestBoxBrute(prims, r);
             ASSERT_EQ(a.hit, b.hit);
-            if (a.hit) ASSERT_EQ(a.t, b.t);
+            if (a.hit) {
+                ASSERT_EQ(a.t, b.t);
+            }
             hits += a.hit;
         }
         for (const Ray& r : randomRays(rng, 300)) expectConservative(bvh, prims, r);
@@ -577,7 +582,9 @@ TEST(Bvh, MillionBoxes) {
     for (const Ray& r : randomRays(rng, 64)) {
         const Hit a = closestBoxBvh(bvh, prims, r), b = closestBoxBrute(prims, r);
         ASSERT_EQ(a.hit, b.hit);
-        if (a.hit) ASSERT_EQ(a.t, b.t);
+        if (a.hit) {
+            ASSERT_EQ(a.t, b.t);
+        }
     }
 }
 

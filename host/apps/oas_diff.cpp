@@ -31,19 +31,15 @@ oas::image::Crop parseCrop(const std::string& text)
     std::uint32_t v[4] = {};
     const char* p = text.data();
     const char* end = text.data() + text.size();
+    const std::string malformed = "--crop must be x,y,w,h (four unsigned integers), not '" + text + "'";
     for (int i = 0; i < 4; ++i) {
-        if (i > 0) {
-            if (p == end || *p != ',') break;
-            ++p;
-        }
-        if (p == end || *p < '0' || *p > '9')
-            throw UsageError("--crop must be x,y,w,h (four unsigned integers), not '" + text + "'");
+        if (i > 0 && (p == end || *p++ != ',')) throw UsageError(malformed);
+        if (p == end || *p < '0' || *p > '9') throw UsageError(malformed);
         const auto [next, ec] = std::from_chars(p, end, v[i]);
-        if (ec != std::errc())
-            throw UsageError("--crop must be x,y,w,h (four unsigned integers), not '" + text + "'");
+        if (ec != std::errc()) throw UsageError(malformed);
         p = next;
     }
-    if (p != end) throw UsageError("--crop must be x,y,w,h (four unsigned integers), not '" + text + "'");
+    if (p != end) throw UsageError(malformed);
     if (v[2] == 0 || v[3] == 0) throw UsageError("--crop width and height must be at least 1, not '" + text + "'");
     return {v[0], v[1], v[2], v[3]};
 }

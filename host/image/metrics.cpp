@@ -54,11 +54,11 @@ ErrorMetrics compare(const Image& image, const Image& reference, std::optional<C
     Crop area{0, 0, image.width, image.height};
     if (crop) {
         area = *crop;
-        if (area.w == 0 || area.h == 0 || std::uint64_t(area.x) + area.w > image.width ||
-            std::uint64_t(area.y) + area.h > image.height)
-            throw std::invalid_argument("crop x,y,w,h = " + std::to_string(area.x) + "," + std::to_string(area.y) +
-                                        "," + std::to_string(area.w) + "," + std::to_string(area.h) +
-                                        " is empty or not inside the " + sizeOf(image) + " image");
+        const std::string name = "crop x,y,w,h = " + std::to_string(area.x) + "," + std::to_string(area.y) + "," +
+                                 std::to_string(area.w) + "," + std::to_string(area.h);
+        if (area.w == 0 || area.h == 0) throw std::invalid_argument(name + " is empty");
+        if (std::uint64_t(area.x) + area.w > image.width || std::uint64_t(area.y) + area.h > image.height)
+            throw std::invalid_argument(name + " reaches outside the " + sizeOf(image) + " image");
     }
     ErrorMetrics m;
     m.pixels = std::uint64_t(area.w) * area.h;

@@ -197,13 +197,12 @@ ObjMesh parseObj(std::string_view text, const std::string& nameForMessages)
 
 ObjMesh readObj(const std::filesystem::path& file)
 {
+    std::error_code ec;
+    const auto status = std::filesystem::status(file, ec);
+    if (!std::filesystem::exists(status)) throw ObjError(file.string(), 0, "mesh file not found (no such file)");
+    if (std::filesystem::is_directory(status)) throw ObjError(file.string(), 0, "is a directory, not a mesh file");
     std::ifstream in(file, std::ios::binary);
-    if (!in) {
-        std::error_code ec;
-        const bool exists = std::filesystem::exists(file, ec);
-        throw ObjError(file.string(), 0,
-                       exists ? "cannot read the mesh file" : "mesh file not found (no such file)");
-    }
+    if (!in) throw ObjError(file.string(), 0, "cannot open the mesh file for reading");
     std::ostringstream buffer;
     buffer << in.rdbuf();
     if (in.bad()) throw ObjError(file.string(), 0, "error reading the mesh file");

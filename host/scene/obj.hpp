@@ -22,7 +22,7 @@ namespace oas::scene {
 
 class ObjError : public std::runtime_error {
 public:
-    /// line 0: the problem is with the whole file (cannot open it, no faces).
+    /// line 0: the problem is with the whole file (missing, unreadable).
     ObjError(std::string file, std::size_t line, const std::string& detail);
     const std::string& file() const { return file_; }
     std::size_t line() const { return line_; }

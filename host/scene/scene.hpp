@@ -116,6 +116,7 @@ struct SamplerSpec {
     std::uint32_t spp = 16;          ///< samples per pixel, 1 .. 2^24
     std::string offset = "cmj";      ///< centered | j | mj | cmj (orthogonal arrays only)
     std::uint32_t strength = 0;      ///< 0 = the sampler's default, else 2 .. 24
+    std::uint32_t seed = 0;          ///< user seed mixed into every pixel seed
 };
 
 /// One mesh entry of the scene file, after expansion into Scene::shapes.
