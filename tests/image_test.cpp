@@ -24,7 +24,11 @@
 #include <string>
 #include <vector>
 
+#include <csignal>
+#include <cstdio>
+
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -293,6 +297,34 @@ TEST(Exr, FailedWriteLeavesNothingAndNamesThePath)
         fs::permissions(ro, fs::perms::owner_all);
         EXPECT_TRUE(fs::is_empty(ro));
     }
+}
+
+TEST(Exr, DiskFullLeavesNothing)
+{
+    // A child process with a 16 KiB file-size limit (SIGXFSZ ignored, so writes fail with EFBIG)
+    // writes an incompressible 64x64 image: the write must throw naming the path, and leave no file.
+    TempDir dir;
+    const std::string path = dir / "full.exr";
+    Image noise(64, 64);
+    std::mt19937 rng(7);
+    for (float& v : noise.rgba) v = floatOf(std::uint32_t(rng()) & 0x3fffffffu);
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    auto writeWithLimit = [&] {
+        std::signal(SIGXFSZ, SIG_IGN);
+        rlimit limit;
+        limit.rlim_cur = limit.rlim_max = 16384;
+        ::setrlimit(RLIMIT_FSIZE, &limit);
+        try {
+            oas::image::writeExr(path, noise, {{"oas.spp", "1"}});
+        } catch (const std::runtime_error& e) {
+            std::fprintf(stderr, "%s\n", e.what());
+            std::_Exit(std::string(e.what()).find(path) != std::string::npos && dir.entries().empty() ? 0 : 3);
+        }
+        std::_Exit(4);
+    };
+    EXPECT_EXIT(writeWithLimit(),
+        ::testing::ExitedWithCode(0), "cannot write .*full.exr");
+    EXPECT_TRUE(dir.entries().empty());
 }
 
 TEST(Exr, RejectsMalformedImagesAndReservedAttributes)

@@ -3,6 +3,7 @@
 // previews. Every writer is atomic: the bytes go to a temporary file beside the target, which is
 // renamed over it only once complete; on failure the temporary file is removed and the target is
 // left as it was.
+#include <cstddef>
 #include <cstdint>
 #include <map>
 #include <string>

@@ -109,6 +109,7 @@ bool inGamut(const std::array<double, 3>& rgb)
 }
 
 /// Ramp anchors in OKLCh (chroma, hue in degrees) at t = 0, 1/4, 1/2, 3/4, 1; lightness is linear in t.
+/// Chosen by eye here: violet, blue, teal, green, yellow.
 struct Anchor {
     double chroma, hue;
 };
@@ -122,11 +123,19 @@ std::array<float, 3> errorRamp(double t)
     if (!(t >= 0)) t = 0;  // NaN too
     if (t > 1) t = 1;
     const double L = kLightness0 + (kLightness1 - kLightness0) * t;
+    // Chroma and hue follow Catmull-Rom splines through the anchors (no kinks, hence no Mach bands).
     const double pos = t * 4;
     const int k = std::min(3, int(pos));
     const double f = pos - k;
-    const double chroma = kAnchors[k].chroma + (kAnchors[k + 1].chroma - kAnchors[k].chroma) * f;
-    const double hue = (kAnchors[k].hue + (kAnchors[k + 1].hue - kAnchors[k].hue) * f) * (M_PI / 180.0);
+    auto spline = [&](double Anchor::*field) {
+        const double p0 = kAnchors[std::max(k - 1, 0)].*field, p1 = kAnchors[k].*field;
+        const double p2 = kAnchors[k + 1].*field, p3 = kAnchors[std::min(k + 2, 4)].*field;
+        const double m1 = 0.5 * (p2 - p0), m2 = 0.5 * (p3 - p1);
+        const double f2 = f * f, f3 = f2 * f;
+        return (2 * f3 - 3 * f2 + 1) * p1 + (f3 - 2 * f2 + f) * m1 + (-2 * f3 + 3 * f2) * p2 + (f3 - f2) * m2;
+    };
+    const double chroma = std::max(0.0, spline(&Anchor::chroma));
+    const double hue = spline(&Anchor::hue) * (M_PI / 180.0);
     auto at = [&](double c) { return oklabToLinearSrgb({L, c * std::cos(hue), c * std::sin(hue)}); };
     std::array<double, 3> rgb = at(chroma);
     if (!inGamut(rgb)) {  // bisect on chroma: chroma 0 (grey of lightness L) is always in gamut

@@ -23,6 +23,7 @@
 // (treat -0 as +0), take the near plane from lo where invDir >= 0 else hi, and combine with
 // comparisons that ignore NaN (0 * inf on a plane the ray lies in): tNear = t > tNear ? t : tNear,
 // tFar = t < tFar ? t : tFar. Hit when tNear <= tFar.
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -155,7 +156,7 @@ inline glm::vec3 safeInverse(const glm::vec3& dir) {
 /// fn(primIndex, tMaxInOut) for each primitive of each leaf whose box the ray enters before the
 /// current tMax, nearer child first. fn may lower tMaxInOut (closest hit) to prune the rest. If fn
 /// returns bool, returning false stops the traversal (any-hit queries). dir need not be
-/// normalised; zero components are fine.
+/// normalised; zero components are fine. bvh must come from buildBvh (depth < kBvhMaxDepth).
 template <class HitFn>
 void traverse(const Bvh& bvh, const glm::vec3& origin, const glm::vec3& dir, float tMax,
               HitFn&& fn) {
@@ -190,6 +191,7 @@ void traverse(const Bvh& bvh, const glm::vec3& origin, const glm::vec3& dir, flo
                 intersectNode(bvh.nodes[right], origin, invDir, 0.f, tMax, tRight);
             if (hitLeft && hitRight) {
                 const bool leftFirst = tLeft <= tRight;
+                assert(size < kBvhMaxDepth);  // buildBvh guarantees depth < kBvhMaxDepth
                 stack[size++] = leftFirst ? Entry{right, tRight} : Entry{left, tLeft};
                 current = leftFirst ? left : right;
                 continue;

@@ -1,6 +1,7 @@
 // Wavefront OBJ reader: see obj.hpp for what is read and what is ignored.
 #include "scene/obj.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -128,7 +129,8 @@ private:
     }
 
     /// A 1-based or negative OBJ index into `count` elements defined so far -> 0-based.
-    std::uint32_t resolve(std::string_view tok, std::string_view corner, const char* kind, std::size_t count)
+    std::uint32_t resolve(std::string_view tok, std::string_view corner, const char* kind, const char* plural,
+                          std::size_t count)
     {
         long long v = 0;
         const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
@@ -137,10 +139,10 @@ private:
         const long long n = static_cast<long long>(count);
         if (v == 0 || v > n || v < -n) {
             if (n == 0)
-                fail(fmt::format("face corner '{}': {} index {} is out of range: no {}s defined before this line",
-                                 corner, kind, v, kind));
-            fail(fmt::format("face corner '{}': {} index {} is out of range: {} {}s defined so far, valid 1..{} or -{}..-1",
-                             corner, kind, v, n, kind, n, n));
+                fail(fmt::format("face corner '{}': {} index {} is out of range: no {} defined before this line",
+                                 corner, kind, v, plural));
+            fail(fmt::format("face corner '{}': {} index {} is out of range: {} {} defined so far, valid 1..{} or -{}..-1",
+                             corner, kind, v, n, plural, n, n));
         }
         return static_cast<std::uint32_t>(v > 0 ? v - 1 : n + v);
     }
@@ -156,20 +158,20 @@ private:
             // v | v/vt | v//vn | v/vt/vn
             const std::size_t s1 = corner.find('/');
             const std::string_view vPart = corner.substr(0, s1);
-            idx.push_back(resolve(vPart, corner, "vertex", mesh_.positions.size()));
+            idx.push_back(resolve(vPart, corner, "vertex", "vertices", mesh_.positions.size()));
             if (s1 == std::string_view::npos) continue;
             const std::string_view rest = corner.substr(s1 + 1);
             const std::size_t s2 = rest.find('/');
             const std::string_view vtPart = rest.substr(0, s2);
             if (s2 == std::string_view::npos) {  // v/vt
-                resolve(vtPart, corner, "texture coordinate", texcoords_);
+                resolve(vtPart, corner, "texture coordinate", "texture coordinates", texcoords_);
                 continue;
             }
             const std::string_view vnPart = rest.substr(s2 + 1);
             if (vnPart.find('/') != std::string_view::npos)
                 fail(fmt::format("face corner '{}' is malformed: valid forms v, v/vt, v//vn, v/vt/vn", corner));
-            if (!vtPart.empty()) resolve(vtPart, corner, "texture coordinate", texcoords_);
-            resolve(vnPart, corner, "normal", normals_);
+            if (!vtPart.empty()) resolve(vtPart, corner, "texture coordinate", "texture coordinates", texcoords_);
+            resolve(vnPart, corner, "normal", "normals", normals_);
         }
         const auto& p = mesh_.positions;
         for (std::size_t i = 1; i + 1 < idx.size(); ++i) {

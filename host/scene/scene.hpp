@@ -100,8 +100,10 @@ struct Light {
 struct Integrator {
     enum class Type { Direct, Path };
     Type type = Type::Path;
-    /// Most scattering vertices (surface hits after the camera) on a counted path. Direct
-    /// lighting = 1: emission seen directly plus light reflected once.
+    /// Path vertices (surface hits) after the camera: x1 .. x_maxDepth. With next-event estimation
+    /// every vertex samples the lights, so paths scattering up to maxDepth times count (direct
+    /// lighting = 1). Without NEE lights are found only by hitting them and the last vertex only
+    /// collects emission: paths scatter up to maxDepth - 1 times.
     std::uint32_t maxDepth = 5;
     bool nextEventEstimation = true; ///< sample lights explicitly at each vertex
     bool mis = true;                 ///< with NEE: weight light and BSDF sampling (power heuristic)

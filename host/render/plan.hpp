@@ -1,0 +1,44 @@
+#pragma once
+// The dimension plan: which sample dimensions a scene's integrand really has, in which order, and
+// where each lands. Only effects the scene calls for consume dimensions: the lens only with a
+// nonzero aperture, time only when something moves during an open shutter, light selection only
+// with more than one light, light positions only with area lights, BSDF directions only where a
+// path continues (or MIS needs them), the lobe choice only with dielectrics, roulette only when
+// enabled. 2D effects start on even dimensions, so they land on OA partner columns (Bose CMJ
+// pairs (0,1), (2,3), ...). The GPU kernel and the CPU reference both follow this one plan.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene/scene.hpp"
+
+namespace oas::render {
+
+constexpr std::uint32_t kAbsent = 0xffffffffu;
+
+struct DimensionPlan {
+    struct Entry {
+        std::string name;     ///< "pixel.xy", "lens.uv", "time", "v1.light.uv", ...
+        std::uint32_t first;  ///< first sample dimension
+        std::uint32_t count;  ///< 1 or 2
+    };
+    std::vector<Entry> entries;  ///< every dimension the integrand uses, in order
+    std::uint32_t usedDims = 0;  ///< the integrand's dimension: sum of counts
+    std::uint32_t sampleDims = 0;  ///< dimensions the sampler must provide (incl. alignment gaps)
+
+    // Layout read by the shaders (pt_trace.glsl): camera dims, then one group per path vertex.
+    bool hasLens = false, hasMotion = false, hasDielectric = false;
+    bool nee = true, mis = true;
+    std::uint32_t maxDepth = 1, rouletteStart = 0;
+    std::uint32_t pixel = 0, lens = kAbsent, time = kAbsent;
+    std::uint32_t vertexBase = 0, vertexStride = 0;
+    std::uint32_t lightSelect = kAbsent, lightUV = kAbsent, bsdfUV = kAbsent, lobe = kAbsent, roulette = kAbsent;
+
+    /// "7D: pixel.xy lens.uv time v1.light.uv", then one line per entry with its dimensions.
+    std::string explain() const;
+};
+
+/// The plan for a scene (its effects, lights, materials and integrator).
+DimensionPlan planDimensions(const scene::Scene& scene);
+
+}  // namespace oas::render

@@ -1,0 +1,67 @@
+#include <cstdint>
+#include <cstring>
+
+#include "render/tracer.hpp"
+#include "pt_render_spv.h"
+
+namespace oas::render {
+namespace {
+
+struct RenderParams {  // the push-constant block of pt_render.comp
+    Pattern pattern;
+    std::uint32_t tileX, tileY, tileWidth, tileHeight, firstSample, sampleCount, seed;
+};
+static_assert(sizeof(RenderParams) == 92);
+
+template <class T>
+std::unique_ptr<vk::Buffer> upload(vk::Context& context, const std::vector<T>& items)
+{
+    auto buffer = std::make_unique<vk::Buffer>(context, items.size() * sizeof(T));
+    std::memcpy(buffer->data(), items.data(), items.size() * sizeof(T));
+    return buffer;
+}
+
+}  // namespace
+
+GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern)
+    : context_(context), pattern_(pattern), width_(std::uint32_t(data.globals.image.x)),
+      height_(std::uint32_t(data.globals.image.y))
+{
+    const std::uint32_t fieldKind = pattern.fieldK <= 1 ? 0u : (pattern.fieldP == 2 ? 1u : 2u);
+    const vk::ComputePipeline::SpecConstants spec = {
+        {0, pattern.construction}, {1, pattern.offset}, {2, fieldKind},
+        {10, plan.hasLens}, {11, plan.hasMotion}, {12, plan.nee}, {13, plan.mis}, {14, plan.lobe != kAbsent},
+        {15, plan.maxDepth}, {16, plan.roulette != kAbsent ? plan.rouletteStart : 0u},
+        {20, plan.pixel}, {21, plan.lens}, {22, plan.time}, {23, plan.vertexBase}, {24, plan.vertexStride},
+        {25, plan.lightSelect}, {26, plan.lightUV}, {27, plan.bsdfUV}, {28, plan.lobe}, {29, plan.roulette}};
+    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 6,
+                                                      std::uint32_t(sizeof(RenderParams)), spec);
+    buffers_.push_back(upload(context_, data.shapes));
+    buffers_.push_back(upload(context_, data.materials));
+    buffers_.push_back(upload(context_, data.lights));
+    buffers_.push_back(upload(context_, data.nodes));
+    buffers_.push_back(upload(context_, std::vector<pt::PtGlobals>{data.globals}));
+    buffers_.push_back(std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * 4 * sizeof(float)));
+    clear();
+}
+
+GpuTracer::~GpuTracer() = default;
+
+void GpuTracer::clear() { std::memset(buffers_[5]->data(), 0, buffers_[5]->size()); }
+
+void GpuTracer::trace(const SampleBatch& b)
+{
+    RenderParams params{pattern_, b.x0, b.y0, b.width, b.height, b.firstSample, b.count, b.seed};
+    std::vector<vk::Buffer*> bindings;
+    for (auto& buffer : buffers_) bindings.push_back(buffer.get());
+    context_.dispatch(*pipeline_, bindings, &params, sizeof(params), (b.width + 7) / 8, (b.height + 7) / 8);
+}
+
+std::vector<float> GpuTracer::accumulation() const
+{
+    std::vector<float> out(std::size_t(width_) * height_ * 4);
+    std::memcpy(out.data(), buffers_[5]->data(), out.size() * sizeof(float));
+    return out;
+}
+
+}  // namespace oas::render

@@ -1,0 +1,222 @@
+// The path tracer against known answers, GPU against the CPU reference, the dimension plan, and
+// oas-render's handling of bad scenes. Scenes come from scenes/.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sys/wait.h>
+
+#include "gpu_test_support.hpp"
+#include "render/plan.hpp"
+#include "render/scene_data.hpp"
+#include "render/tracer.hpp"
+#include "scene/scene.hpp"
+
+namespace {
+
+using namespace oas;
+
+scene::Scene loadTestScene(const std::string& name) { return scene::loadScene(std::string(OAS_SCENES_DIR) + "/" + name); }
+
+Pattern patternFor(const scene::Scene& s, const render::DimensionPlan& plan, std::uint32_t spp, const std::string& sampler = "oa")
+{
+    PatternRequest r;
+    r.sampler = sampler;
+    r.spp = spp;
+    r.dims = plan.sampleDims;
+    return makePattern(r);
+}
+
+/// Mean radiance (red channel) and its standard error at pixel (px, py) over n samples.
+std::pair<double, double> pixelEstimate(const scene::Scene& s, std::uint32_t px, std::uint32_t py, std::uint32_t n,
+                                        const std::string& sampler = "random")
+{
+    const auto plan = render::planDimensions(s);
+    const auto data = render::flattenScene(s);
+    const auto pattern = patternFor(s, plan, n, sampler);
+    double sum = 0, sum2 = 0;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        const double v = render::radianceCpu(data, plan, pattern, px, py, 7, i).x;
+        sum += v;
+        sum2 += v * v;
+    }
+    const double mean = sum / n;
+    return {mean, std::sqrt(std::max(0.0, sum2 / n - mean * mean) / (n - 1))};
+}
+
+TEST(Render, WhiteFurnaceIsExact)
+{
+    // A convex diffuse sphere (albedo 0.5) in a uniform environment of radiance 1: every path that
+    // hits the sphere scatters once and escapes, so its radiance is exactly 0.5; misses see 1.
+    const auto s = loadTestScene("furnace.json");
+    const auto centre = pixelEstimate(s, s.width / 2, s.height / 2, 64, "oa");
+    EXPECT_NEAR(centre.first, 0.5, 1e-6);
+    EXPECT_NEAR(centre.second, 0.0, 1e-6);
+    const auto corner = pixelEstimate(s, 0, 0, 64, "oa");
+    EXPECT_NEAR(corner.first, 1.0, 1e-6);
+}
+
+/// Configuration factor from a point to an axis-aligned rectangle [x1,x2] x [z1,z2] in a parallel
+/// plane at height h (coordinates relative to the point; Howell's catalogue, case B-3, combined
+/// over the four corner rectangles with signs).
+double parallelRectangleFactor(double x1, double x2, double z1, double z2, double h)
+{
+    auto corner = [h](double u, double v) {
+        const double a = std::abs(u) / h, b = std::abs(v) / h;
+        const double f = (a / std::sqrt(1 + a * a) * std::atan(b / std::sqrt(1 + a * a)) +
+                          b / std::sqrt(1 + b * b) * std::atan(a / std::sqrt(1 + b * b))) /
+                         (2 * M_PI);
+        return (u < 0 ? -1 : 1) * (v < 0 ? -1 : 1) * f;
+    };
+    return corner(x2, z2) - corner(x1, z2) - corner(x2, z1) + corner(x1, z1);
+}
+
+TEST(Render, PlaneUnderRectangularLightMatchesAnalyticIrradiance)
+{
+    // scenes/plane_rect_light.json: albedo-1 plane y = 0, a 2 x 2 light of radiance 1 at height 2,
+    // camera at height 1.5 looking straight down with a 90 degree field of view (x right, z down
+    // the image), so pixel (px, py) sees the plane around (x, z) below.
+    const auto s = loadTestScene("plane_rect_light.json");
+    for (auto [px, py] : {std::pair{32u, 32u}, {10u, 40u}, {50u, 5u}, {3u, 60u}}) {
+        const double sx = (px + 0.5) / s.width * 2 - 1, sy = 1 - (py + 0.5) / s.height * 2;
+        const double x = sx * 1.5, z = -sy * 1.5;
+        const double expected = parallelRectangleFactor(-1 - x, 1 - x, -1 - z, 1 - z, 2.0);  // albedo * L * F
+        const auto [mean, se] = pixelEstimate(s, px, py, 65536);
+        // 4 standard errors plus 0.5% for the radiance varying across the pixel's footprint.
+        EXPECT_NEAR(mean, expected, 4 * se + 0.005 * expected) << "pixel " << px << "," << py;
+    }
+}
+
+TEST(DimensionPlan, TheSevenDimensionalSceneAndRemovingEffects)
+{
+    auto s = loadTestScene("cornell7d.json");
+    auto names = [](const render::DimensionPlan& p) {
+        std::string out;
+        for (const auto& e : p.entries) out += e.name + " ";
+        return out;
+    };
+    auto plan = render::planDimensions(s);
+    EXPECT_EQ(names(plan), "pixel.xy lens.uv time light.uv ");
+    EXPECT_EQ(plan.usedDims, 7u);
+    // 2D effects start on even dimensions (OA partner columns).
+    for (const auto& e : plan.entries)
+        if (e.count == 2) EXPECT_EQ(e.first % 2, 0u) << e.name;
+
+    auto noLens = s;
+    noLens.camera.apertureRadius = 0;
+    const auto p1 = render::planDimensions(noLens);
+    EXPECT_EQ(names(p1), "pixel.xy time light.uv ");
+    EXPECT_EQ(p1.usedDims, 5u);
+    EXPECT_EQ(p1.lens, render::kAbsent);
+
+    auto still = s;
+    for (auto& shape : still.shapes) shape.velocity = glm::vec3(0);
+    const auto p2 = render::planDimensions(still);
+    EXPECT_EQ(names(p2), "pixel.xy lens.uv light.uv ");
+    EXPECT_EQ(p2.time, render::kAbsent);
+
+    auto closedShutter = s;
+    closedShutter.shutterClose = closedShutter.shutterOpen;
+    EXPECT_EQ(render::planDimensions(closedShutter).time, render::kAbsent);
+
+    auto twoLights = s;
+    twoLights.lights.push_back(scene::Light{});
+    EXPECT_EQ(names(render::planDimensions(twoLights)), "pixel.xy lens.uv time light.select light.uv ");
+
+    auto misOn = s;
+    misOn.integrator.mis = true;
+    EXPECT_EQ(names(render::planDimensions(misOn)), "pixel.xy lens.uv time light.uv bsdf.uv ");
+
+    auto path = s;
+    path.integrator.type = scene::Integrator::Type::Path;
+    path.integrator.maxDepth = 3;
+    path.integrator.mis = false;
+    path.integrator.rouletteStartDepth = 2;
+    EXPECT_EQ(names(render::planDimensions(path)),
+              "pixel.xy lens.uv time v1.light.uv v1.bsdf.uv v2.light.uv v2.bsdf.uv v2.roulette v3.light.uv ");
+}
+
+class RenderGpu : public test::GpuTest {};
+
+TEST_F(RenderGpu, AgreesWithTheCpuReference)
+{
+    // The same scene, plan and OA samples on both sides: per pixel the two estimates differ only by
+    // floating-point evaluation order and the GPU's sin/cos/sqrt precision, far below the noise.
+    auto s = loadTestScene("cornell7d.json");
+    s.width = 24;
+    s.height = 24;
+    const auto plan = render::planDimensions(s);
+    const auto data = render::flattenScene(s);
+    const auto pattern = patternFor(s, plan, 121);
+    render::SampleBatch batch;
+    batch.width = s.width;
+    batch.height = s.height;
+    batch.count = 121;
+    batch.seed = 3;
+    std::vector<float> cpu(std::size_t(s.width) * s.height * 4, 0.0f);
+    render::traceCpu(data, plan, pattern, batch, cpu);
+    render::GpuTracer gpu(context(), data, plan, pattern);
+    for (std::uint32_t first = 0; first < 121; first += 11) {
+        batch.firstSample = first;
+        batch.count = 11;
+        gpu.trace(batch);
+    }
+    const auto g = gpu.accumulation();
+    double sumAbs = 0, sum = 0;
+    std::size_t far = 0;
+    for (std::size_t i = 0; i < cpu.size(); i += 4) {
+        ASSERT_EQ(g[i + 3], 121.0f);
+        for (int c = 0; c < 3; ++c) {
+            const double a = cpu[i + c] / 121.0, b = g[i + c] / 121.0;
+            sumAbs += std::abs(a - b);
+            sum += std::abs(a);
+            if (std::abs(a - b) > 0.02 * std::abs(a) + 1e-4) ++far;
+        }
+    }
+    ASSERT_GT(sum, 0.0) << "the reference image is black";
+    EXPECT_LT(sumAbs / sum, 1e-3) << "mean relative difference";
+    EXPECT_LE(far, cpu.size() / 4 * 3 / 100) << "pixels differing by more than 2%";
+}
+
+/// Runs oas-render with arguments; returns the exit status.
+int runRender(const std::string& args)
+{
+    const std::string command = std::string(OAS_RENDER_EXE) + " " + args + " >/dev/null 2>&1";
+    const int status = std::system(command.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(RenderCli, BadScenesExitNonZeroAndWriteNothing)
+{
+    const auto dir = std::filesystem::temp_directory_path() / ("oas_render_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string good = std::string(OAS_SCENES_DIR) + "/furnace.json";
+    std::ifstream in(good);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"malformed", text.substr(0, text.size() / 2)},
+        {"unknown_key", "{\"resolution\": [8, 8], \"bogus\": 1}"},
+        {"absurd_resolution", "{\"resolution\": [0, 8]}"},
+    };
+    for (const auto& [name, body] : bad) {
+        const auto scenePath = dir / (name + ".json");
+        std::ofstream(scenePath) << body;
+        const auto out = dir / (name + ".exr");
+        EXPECT_EQ(runRender(scenePath.string() + " -o " + out.string() + " --device cpu"), 2) << name;
+        EXPECT_FALSE(std::filesystem::exists(out)) << name;
+        EXPECT_FALSE(std::filesystem::exists(dir / (name + ".png"))) << name;
+    }
+    EXPECT_EQ(runRender((dir / "missing.json").string()), 2);
+    EXPECT_EQ(runRender(good + " --spp 0"), 2);
+    EXPECT_EQ(runRender(good + " --sampler bose --spp 100"), 2);
+    // A good scene renders on the CPU and writes both files.
+    const auto out = dir / "furnace.exr";
+    EXPECT_EQ(runRender(good + " --device cpu --spp 16 -o " + out.string()), 0);
+    EXPECT_TRUE(std::filesystem::exists(out));
+    EXPECT_TRUE(std::filesystem::exists(dir / "furnace.png"));
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
