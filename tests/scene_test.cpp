@@ -9,6 +9,7 @@
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <unistd.h>
 
@@ -247,6 +248,8 @@ TEST(Scenes, DerivedFlagsOfEveryScene)
         EXPECT_FLOAT_EQ(s.shapes[0].radius, 1);
         EXPECT_EQ(s.materials[s.shapes[0].material].albedo, glm::vec3(0.5f));
         EXPECT_EQ(s.integrator.type, Integrator::Type::Path);
+        EXPECT_GE(s.integrator.maxDepth, 2u);  // the environment is reached from x1 by BSDF sampling
+        EXPECT_FALSE(s.integrator.nextEventEstimation);
     }
     {
         const Scene s = loadScene(kScenes / "plane_rect_light.json");
@@ -641,6 +644,57 @@ TEST(BadScenes, LoadingMissingFilesNamesThem)
     // Relative mesh paths resolve against the scene file's directory.
     tmp.write("meshes/missing.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
     EXPECT_EQ(loadScene(scene).shapes.size(), 1u);
+}
+
+TEST(BadScenes, RandomCorruptionsOnlyEverThrowSceneError)
+{
+    // Deterministic corruption of a real scene: values swapped for other types and out-of-range
+    // numbers, and raw bytes changed. Loading must succeed or throw SceneError, nothing else.
+    std::ifstream in(kScenes / "cornell7d.json");
+    const std::string original((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const json base = json::parse(original);
+    std::uint64_t state = 0x9e3779b97f4a7c15ull;
+    auto next = [&](std::uint64_t n) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return (state >> 33) % n;
+    };
+    const json replacements[] = {-1, 0, 0.5, 1e30, 1e300, -1e300, 4294967296.0, 18446744073709551615ull, "x", "",
+                                 true, nullptr, json::array(), json::object(), {1, 2, 3}, {1, 2}, {{"a", 1}}};
+    int refused = 0, loaded = 0;
+    for (int iter = 0; iter < 1500; ++iter) {
+        std::string text;
+        if (iter % 3 != 2) {
+            json j = base;
+            // Walk to a random node and replace it (or drop a key from an object).
+            json* node = &j;
+            for (int depth = 0; depth < 6 && (node->is_object() || node->is_array()) && !node->empty(); ++depth) {
+                auto it = node->begin();
+                std::advance(it, std::ptrdiff_t(next(node->size())));
+                if (next(3) == 0 && depth > 0) break;
+                node = &*it;
+            }
+            if (node->is_object() && !node->empty() && next(2) == 0)
+                node->erase(node->begin());
+            else
+                *node = replacements[next(std::size(replacements))];
+            text = j.dump();
+        } else {
+            text = original;
+            const std::string bytes("{}[],:\"0-9.eE x\0", 16);  // includes a NUL byte
+            for (int k = 0, n = 1 + int(next(4)); k < n; ++k) text[next(text.size())] = bytes[next(bytes.size())];
+        }
+        try {
+            parseScene(text, "fuzz.json", kScenes);
+            ++loaded;
+        } catch (const SceneError& e) {
+            ++refused;
+            ASSERT_EQ(std::string(e.what()).rfind("fuzz.json: ", 0), 0u) << e.what();
+        } catch (const std::exception& e) {
+            FAIL() << "not a SceneError: " << e.what() << "\n" << text;
+        }
+    }
+    EXPECT_GT(refused, 1000);
+    EXPECT_GT(loaded, 0);
 }
 
 // ---------------------------------------------------------------------------------------------
