@@ -6,7 +6,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <csignal>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+#include "image/image.hpp"
 
 #include "gpu_test_support.hpp"
 #include "render/plan.hpp"
@@ -216,6 +222,36 @@ TEST(RenderCli, BadScenesExitNonZeroAndWriteNothing)
     EXPECT_EQ(runRender(good + " --device cpu --spp 16 -o " + out.string()), 0);
     EXPECT_TRUE(std::filesystem::exists(out));
     EXPECT_TRUE(std::filesystem::exists(dir / "furnace.png"));
+    std::filesystem::remove_all(dir);
+}
+
+TEST(RenderCli, CtrlCWritesTheImageAccumulatedSoFar)
+{
+    const auto dir = std::filesystem::temp_directory_path() / ("oas_render_int_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string out = (dir / "partial.exr").string();
+    const std::string scenePath = std::string(OAS_SCENES_DIR) + "/furnace.json";
+    // A CPU render far too long to finish (1M spp); interrupt it once the output would be partial.
+    std::vector<std::string> args = {OAS_RENDER_EXE, scenePath, "--device", "cpu", "--spp", "1000000", "-o", out};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    ASSERT_EQ(posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+    ::kill(pid, SIGINT);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 130);
+    std::map<std::string, std::string> attributes;
+    const image::Image img = image::readExr(out, &attributes);
+    const std::uint32_t spp = std::uint32_t(std::stoul(attributes.at("oas.spp")));
+    EXPECT_GT(spp, 0u);
+    EXPECT_LT(spp, 1000000u);
+    EXPECT_EQ(attributes.at("oas.sppRequested"), "1000000");
+    // The furnace's exact answer holds for whatever number of samples was reached.
+    EXPECT_NEAR(img.rgba[(std::size_t(16) * img.width + 16) * 4], 0.5f, 1e-5f);
     std::filesystem::remove_all(dir);
 }
 

@@ -51,7 +51,12 @@ DimensionPlan planDimensions(const scene::Scene& scene)
     if (plan.hasMotion) add("time", plan.time, 1);
     for (std::uint32_t v = 1; v <= plan.maxDepth; ++v) {
         const std::uint32_t base = plan.vertexBase + (v - 1) * plan.vertexStride;
-        const std::string prefix = plan.maxDepth > 1 ? "v" + std::to_string(v) + "." : "";
+        std::string prefix;
+        if (plan.maxDepth > 1) {
+            prefix = "v";
+            prefix += std::to_string(v);
+            prefix += '.';
+        }
         // Must match pt_radiance: the path stops at the last vertex unless MIS needs a BSDF sample.
         const bool bsdfHere = plan.bsdfUV != kAbsent && (v < plan.maxDepth || plan.mis);
         if (plan.lightSelect != kAbsent) add(prefix + "light.select", base + plan.lightSelect, 1);

@@ -369,7 +369,9 @@ vec3 pt_next_event(PtSampleState st, uint v, PtMaterial m, vec3 x, vec3 n, vec3 
         float falloff = 1.0f;
         if (light.position.w == PT_LIGHT_SPOT) {
             float c = dot(-wi, vec3(light.spot));
-            falloff = smoothstep(light.spot.w, light.extra.x, c);
+            // smoothstep is undefined for equal edges: a spot without a soft rim has a hard edge.
+            falloff = light.extra.x > light.spot.w ? smoothstep(light.spot.w, light.extra.x, c)
+                                                  : (c >= light.spot.w ? 1.0f : 0.0f);
         }
         if (falloff <= 0.0f || !pt_visible(origin, wi, time, 0.0f, sqrt(dist2) * (1.0f - 1e-4f))) return vec3(0.0f);
         return e.fCos * vec3(light.intensity) * (falloff * lightCount / dist2);
