@@ -220,7 +220,7 @@ TEST(Scenes, DerivedFlagsOfEveryScene)
         ASSERT_EQ(s.lights.size(), 1u);
         EXPECT_EQ(s.lights[0].type, Light::Type::Point);
         EXPECT_EQ(s.integrator.type, Integrator::Type::Path);
-        EXPECT_GE(s.integrator.maxDepth, 8u);
+        EXPECT_GE(s.integrator.maxDepth, 6u);
         EXPECT_LE(s.integrator.maxDepth, 10u);
         EXPECT_EQ(s.integrator.rouletteStartDepth, 3u);
         EXPECT_TRUE(s.integrator.nextEventEstimation && s.integrator.mis);
