@@ -11,6 +11,8 @@ layout(constant_id = 2) const uint oasSpecFieldKind = 0u;
 #define OAS_STATIC_CONSTRUCTION oasSpecConstruction
 #define OAS_STATIC_OFFSET oasSpecOffset
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
+layout(std430, binding = 6) readonly buffer SobolDirections { uint sobolDirections[]; };
+#define OAS_SOBOL_DIRECTION(dim, bit) sobolDirections[(dim) * 32u + (bit)]
 #include "oas/oas.glsl"
 
 const uint PT_ABSENT = 0xffffffffu;

@@ -426,7 +426,7 @@ TEST_F(CliTest, ListNamesEverySamplerAndValidCounts)
     const ToolRun r = runTool({"--list", "--spp", "100", "--dims", "4"});
     ASSERT_EQ(r.status, 0) << describe(r);
     const std::vector<std::string> names = {"bose",   "bush",       "bose-bush", "addelman-kempthorne", "cmjnd",
-                                            "random", "jittered2d", "cmj2d",     "zerotwo",             "halton"};
+                                            "random", "jittered2d", "cmj2d",     "zerotwo",             "halton", "sobol"};
     const std::vector<std::string> lines = splitLines(r.out);
     for (const auto& name : names) {
         bool found = false;

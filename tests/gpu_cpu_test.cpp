@@ -96,7 +96,7 @@ TEST_F(GpuCpu, EveryOrthogonalArrayAndOffset)
 TEST_F(GpuCpu, EveryBaseline)
 {
     oas::GpuGenerator& gpu = generator();
-    for (const char* sampler : {"random", "jittered2d", "cmj2d", "zerotwo", "halton"}) {
+    for (const char* sampler : {"random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"}) {
         for (std::uint32_t spp : {1u, 7u, 64u, 100u, 1024u}) {
             oas::PatternRequest req;
             req.sampler = sampler;

@@ -107,8 +107,11 @@ TEST(DimensionPlan, TheSevenDimensionalSceneAndRemovingEffects)
     EXPECT_EQ(names(plan), "pixel.xy lens.uv time light.uv ");
     EXPECT_EQ(plan.usedDims, 7u);
     // 2D effects start on even dimensions (OA partner columns).
-    for (const auto& e : plan.entries)
-        if (e.count == 2) EXPECT_EQ(e.first % 2, 0u) << e.name;
+    for (const auto& e : plan.entries) {
+        if (e.count == 2) {
+            EXPECT_EQ(e.first % 2, 0u) << e.name;
+        }
+    }
 
     auto noLens = s;
     noLens.camera.apertureRadius = 0;

@@ -141,6 +141,43 @@ TEST(Stratification, BaselinesKeepWhatTheyPromise)
     }
 }
 
+TEST(Sobol, FirstDimensionsAreVanDerCorputAndTheZeroTwoPartner)
+{
+    for (std::uint32_t i = 0; i < 4096; ++i) {
+        ASSERT_EQ(oas::glsl::oas_sobol(i, 0), oas::glsl::oas_reverse_bits(i));
+        ASSERT_EQ(oas::glsl::oas_sobol(i, 1), oas::glsl::oas_sobol_dim1(i));
+    }
+}
+
+TEST(Sobol, EveryDimensionIsAZeroOneSequenceAndScramblingKeepsIt)
+{
+    // Each Sobol dimension's first 2^m points hit each of 2^m intervals once; Owen scrambling
+    // keeps that, and later blocks (shuffled indices) do too.
+    for (std::uint32_t d = 0; d < 64; ++d) {
+        std::vector<bool> seen(1024, false);
+        for (std::uint32_t i = 0; i < 1024; ++i) {
+            const std::uint32_t cell = oas::glsl::oas_sobol(i, d) >> 22;
+            ASSERT_FALSE(seen[cell]) << "dim " << d;
+            seen[cell] = true;
+        }
+    }
+    oas::PatternRequest r;
+    r.sampler = "sobol";
+    r.spp = 256;
+    const oas::Pattern p = oas::makePattern(r);
+    const std::uint32_t dims = 140;
+    const auto pts = points(p, dims, 3, 4, 5);
+    for (std::uint32_t d = 0; d < dims; ++d) ASSERT_TRUE(oas::isStratified(pts.data(), 256, dims, {d}, 256)) << d;
+    // Dimensions (0,1) form a (0,8,2)-net: every elementary interval of area 1/256 holds one point.
+    for (std::uint32_t bx = 0; bx <= 8; ++bx) {
+        std::set<std::uint64_t> cells;
+        for (std::uint32_t i = 0; i < 256; ++i)
+            cells.insert(std::uint64_t(oas::stratumOf(pts[i * dims], 1u << bx)) << 32 |
+                         oas::stratumOf(pts[i * dims + 1], 1u << (8 - bx)));
+        EXPECT_EQ(cells.size(), 256u) << bx;
+    }
+}
+
 TEST(Randomization, DistinctPerPixelDimensionAndBlock)
 {
     oas::PatternRequest r;

@@ -505,8 +505,8 @@ std::vector<BadCase> badCases()
              j["integrator"] = {{"type", "path"}, {"nextEventEstimation", false}, {"mis", true}};
          }),
          nullptr, "integrator.mis", {"true", "nextEventEstimation"}},
-        {"unknown sampler", set([](json& j) { j["sampler"]["name"] = "sobol"; }), nullptr, "sampler.name",
-         {"\"sobol\"", "bose | bush"}},
+        {"unknown sampler", set([](json& j) { j["sampler"]["name"] = "owen-sobol"; }), nullptr, "sampler.name",
+         {"\"owen-sobol\"", "bose | bush"}},
         {"unknown offset", set([](json& j) { j["sampler"]["offset"] = "xyz"; }), nullptr, "sampler.offset",
          {"\"xyz\"", "centered | j | mj | cmj"}},
         {"offset on a non-OA sampler", set([](json& j) { j["sampler"] = {{"name", "halton"}, {"spp", 16}, {"offset", "mj"}}; }),

@@ -30,7 +30,7 @@ vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
         const std::size_t bytes = hashOnly_ ? sizeof(oas_generate_hash_only_spv) : sizeof(oas_generate_spv);
         const vk::ComputePipeline::SpecConstants spec = {
             {0, std::get<0>(key)}, {1, std::get<1>(key)}, {2, std::get<2>(key)}};
-        slot = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 1, std::uint32_t(sizeof(GenerateParams)),
+        slot = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 2, std::uint32_t(sizeof(GenerateParams)),
                                                      hashOnly_ ? vk::ComputePipeline::SpecConstants{} : spec);
     }
     return *slot;
@@ -66,7 +66,12 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
         buffer_.reset();
         buffer_ = std::make_unique<vk::Buffer>(context_, chunkBytes);
     }
-    vk::Buffer* buffers[] = {buffer_.get()};
+    if (!sobol_) {
+        const auto& directions = sobolDirections();
+        sobol_ = std::make_unique<vk::Buffer>(context_, directions.size() * sizeof(std::uint32_t));
+        std::memcpy(sobol_->data(), directions.data(), directions.size() * sizeof(std::uint32_t));
+    }
+    vk::Buffer* buffers[] = {buffer_.get(), sobol_.get()};
     vk::ComputePipeline& pipeline = pipelineFor(pattern);
     const std::uint32_t maxGroupsX = context_.limits().maxComputeWorkGroupCount[0];
     for (std::uint64_t first = 0; first < totalPoints; first += chunk) {

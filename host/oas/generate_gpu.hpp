@@ -34,6 +34,7 @@ private:
     /// One pipeline per (construction, offset, field kind) specialisation, made on first use.
     std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::unique_ptr<vk::ComputePipeline>> pipelines_;
     std::unique_ptr<vk::Buffer> buffer_;
+    std::unique_ptr<vk::Buffer> sobol_;  ///< Sobol direction numbers (binding 1)
     std::uint64_t maxPointsPerDispatch_ = 0;
 };
 

@@ -32,6 +32,9 @@ inline int bitCount(uint v) { return std::popcount(v); }
 /// GLSL findMSB: index of the highest set bit, -1 for 0.
 inline int findMSB(uint v) { return v == 0 ? -1 : 31 - std::countl_zero(v); }
 
+// The C++ twin has the Sobol baseline: its direction numbers come from the host's table.
+#define OAS_SOBOL_DIRECTION(dim, bit) (::oas::sobolDirections()[(dim) * 32u + (bit)])
+
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
 #pragma GCC diagnostic ignored "-Wunused-variable"

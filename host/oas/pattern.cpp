@@ -81,6 +81,7 @@ const std::map<std::string, SamplerInfo>& samplerTable()
         {"cmj2d", {glsl::OAS_CMJ_2D, "correlated multi-jittered 2D per pair, padded (Kensler 2013; baseline)"}},
         {"zerotwo", {glsl::OAS_ZERO_TWO, "Owen-scrambled (0,2)-sequence per pair, padded (baseline)"}},
         {"halton", {glsl::OAS_HALTON, "Halton with random digit permutations, blocks of 32 dims (baseline)"}},
+        {"sobol", {glsl::OAS_SOBOL, "Owen-scrambled Sobol, blocks of 64 dims (baseline; our direction numbers)"}},
     };
     return table;
 }
@@ -199,8 +200,10 @@ Pattern exactPatternFields(std::uint32_t code, std::uint32_t spp, std::uint32_t 
     }
     default: {  // baselines take any N
         pat.s = spp;
-        pat.blockDims = code == glsl::OAS_HALTON ? glsl::OAS_HALTON_BLOCK : 2;
-        pat.strength = code == glsl::OAS_RANDOM ? 0 : (code == glsl::OAS_HALTON ? 1 : 2);
+        pat.blockDims = code == glsl::OAS_HALTON ? glsl::OAS_HALTON_BLOCK
+                        : code == glsl::OAS_SOBOL ? glsl::OAS_SOBOL_BLOCK
+                        : code == glsl::OAS_RANDOM ? 1 : 2;
+        pat.strength = code == glsl::OAS_RANDOM ? 0 : (code == glsl::OAS_HALTON || code == glsl::OAS_SOBOL ? 1 : 2);
         // Grid nx * ny = N with nx the largest divisor <= sqrt(N) (squares give n x n).
         std::uint32_t nx = std::uint32_t(std::sqrt(double(spp)));
         while (nx > 1 && spp % nx != 0) --nx;
@@ -244,6 +247,47 @@ void checkCommon(const PatternRequest& r)
 
 }  // namespace
 
+const std::vector<std::uint32_t>& sobolDirections()
+{
+    static const std::vector<std::uint32_t> table = [] {
+        const std::uint32_t dims = glsl::OAS_SOBOL_BLOCK;
+        std::vector<std::uint32_t> v(dims * 32, 0);
+        for (std::uint32_t b = 0; b < 32; ++b) v[b] = 1u << (31 - b);  // van der Corput
+        // Primitive polynomials over GF(2) in order of degree, then value: x^k + g(x) with x of
+        // order 2^k - 1 (the GF(2^k) test primitivePolynomial uses), every g, not just the first.
+        std::uint32_t dim = 1;
+        for (std::uint32_t degree = 1; dim < dims; ++degree) {
+            for (std::uint32_t g = 1; g < (1u << degree) && dim < dims; g += 2) {
+                if (degree > 1) {
+                    const OasField f = makeField(2, degree, g);
+                    std::uint32_t power = 1, order = 0;
+                    do {
+                        power = glsl::oas_gf_mulx(f, power);
+                        ++order;
+                    } while (power != 1 && order < f.q - 1);
+                    if (!(power == 1 && order == f.q - 1)) continue;
+                }
+                // m_1..m_degree odd, m_k < 2^k; dimension 1 (x + 1) keeps m_1 = 1.
+                std::vector<std::uint32_t> m(33, 0);
+                for (std::uint32_t k = 1; k <= degree; ++k)
+                    m[k] = dim == 1 ? 1u : ((glsl::oas_pcg(dim * 64 + k) & ((1u << k) - 1)) | 1u);
+                // Bratley and Fox (1988): m_k = 2 a_1 m_{k-1} ^ 4 a_2 m_{k-2} ^ ... ^ 2^s m_{k-s} ^ m_{k-s},
+                // with g's bits a_{s-1} .. a_1 the inner coefficients and a_s = 1.
+                for (std::uint32_t k = degree + 1; k <= 32; ++k) {
+                    std::uint32_t mk = m[k - degree] ^ (m[k - degree] << degree);
+                    for (std::uint32_t i = 1; i < degree; ++i)
+                        if ((g >> (degree - i)) & 1u) mk ^= m[k - i] << i;
+                    m[k] = mk;
+                }
+                for (std::uint32_t b = 0; b < 32; ++b) v[dim * 32 + b] = m[b + 1] << (31 - b);
+                ++dim;
+            }
+        }
+        return v;
+    }();
+    return table;
+}
+
 Divisor makeDivisor(std::uint32_t d)
 {
     if (d == 0) throw std::invalid_argument("makeDivisor: division by zero");
@@ -256,7 +300,7 @@ Divisor makeDivisor(std::uint32_t d)
 const std::vector<std::string>& samplerNames()
 {
     static const std::vector<std::string> names = {"bose", "bush", "bose-bush", "addelman-kempthorne", "cmjnd",
-                                                   "random", "jittered2d", "cmj2d", "zerotwo", "halton"};
+                                                   "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"};
     return names;
 }
 

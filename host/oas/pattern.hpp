@@ -56,6 +56,14 @@ std::string samplerDescription(const std::string& name);
 /// True for the orthogonal-array constructions.
 bool isOrthogonalArray(const std::string& name);
 
+/// Sobol direction numbers, OAS_SOBOL_BLOCK (64) dimensions x 32 bits, [dim * 32 + bit], bit 0
+/// the most significant. Dimension 0 is van der Corput, dimension 1 uses x + 1 with m = 1 (with
+/// dimension 0, the (0,2)-sequence); dimension j >= 2 uses the j-th primitive polynomial over GF(2)
+/// (in order of degree, then value) with initial numbers m_k odd and < 2^k drawn from a fixed hash.
+/// These are valid Sobol (t,s)-sequence directions but not Joe and Kuo's optimised ones (which
+/// are data we do not ship): higher dimensions have weaker 2D projections than theirs.
+const std::vector<std::uint32_t>& sobolDirections();
+
 /// Validated pattern for the request; throws InvalidArgument naming the nearest valid spp.
 Pattern makePattern(const PatternRequest& request);
 /// The chooser behind sampler "oa": the pattern and a human explanation of the choice.

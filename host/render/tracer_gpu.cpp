@@ -34,7 +34,7 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
         {15, plan.maxDepth}, {16, plan.roulette != kAbsent ? plan.rouletteStart : 0u},
         {20, plan.pixel}, {21, plan.lens}, {22, plan.time}, {23, plan.vertexBase}, {24, plan.vertexStride},
         {25, plan.lightSelect}, {26, plan.lightUV}, {27, plan.bsdfUV}, {28, plan.lobe}, {29, plan.roulette}};
-    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 6,
+    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 7,
                                                       std::uint32_t(sizeof(RenderParams)), spec);
     buffers_.push_back(upload(context_, data.shapes));
     buffers_.push_back(upload(context_, data.materials));
@@ -42,6 +42,7 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     buffers_.push_back(upload(context_, data.nodes));
     buffers_.push_back(upload(context_, std::vector<pt::PtGlobals>{data.globals}));
     buffers_.push_back(std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * 4 * sizeof(float)));
+    buffers_.push_back(upload(context_, sobolDirections()));
     clear();
 }
 

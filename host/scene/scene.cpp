@@ -63,7 +63,7 @@ const std::vector<std::string>& samplerNames()
 {
     static const std::vector<std::string> names = {"oa",    "bose",   "bush",       "bose-bush", "addelman-kempthorne",
                                                    "cmjnd", "random", "jittered2d", "cmj2d",     "zerotwo",
-                                                   "halton"};
+                                                   "halton", "sobol"};
     return names;
 }
 

@@ -60,10 +60,40 @@ uint oas_halton_base(uint i)
 /// permutations (padding), never a silent wrap onto the same bases with the same scrambling.
 const uint OAS_HALTON_BLOCK = 32u;
 
+/// Dimensions of one Sobol block: the host's direction-number table (oas::sobolDirections) has this
+/// many; further dimensions start new blocks with shuffled indices and fresh scrambling.
+const uint OAS_SOBOL_BLOCK = 64u;
+
+#ifdef OAS_SOBOL_DIRECTION
+/// Sobol point `index`, dimension `dim` < OAS_SOBOL_BLOCK, as a 32-bit fraction. Direction numbers
+/// are data, not computable on the fly: a shader that wants the Sobol baseline defines
+/// OAS_SOBOL_DIRECTION(dim, bit) (bit 0 = the most significant direction number) before including
+/// oas.glsl, typically reading a buffer filled from oas::sobolDirections(). Without it the Sobol
+/// pattern is unavailable in that shader and oas_sample returns independent random values for it.
+uint oas_sobol(uint index, uint dim)
+{
+    uint x = 0u;
+    for (uint bit = 0u; index != 0u; ++bit) {
+        if ((index & 1u) != 0u) x ^= OAS_SOBOL_DIRECTION(dim, bit);
+        index >>= 1u;
+    }
+    return x;
+}
+#endif
+
 /// Baseline samplers. `index` < N; passes (index >= N) are handled by oas_sample.
 float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
 {
-    if (OAS_CONSTRUCTION(pat) == OAS_RANDOM)
+#ifdef OAS_SOBOL_DIRECTION
+    if (OAS_CONSTRUCTION(pat) == OAS_SOBOL) {
+        uint block = dim / OAS_SOBOL_BLOCK;
+        uint blockSeed = oas_hash2(seed, block);
+        uint i = block == 0u ? index : oas_permute(index, pat.N, blockSeed ^ OAS_TAG_ROW);
+        uint x = oas_sobol(i, dim - block * OAS_SOBOL_BLOCK);
+        return float(oas_owen_scramble24(x, oas_hash2(blockSeed, dim)) >> 8u) * OAS_INV_2POW24;
+    }
+#endif
+    if (OAS_CONSTRUCTION(pat) == OAS_RANDOM || OAS_CONSTRUCTION(pat) == OAS_SOBOL)
         return float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24;
 
     if (OAS_CONSTRUCTION(pat) == OAS_HALTON) {

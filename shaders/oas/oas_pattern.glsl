@@ -15,6 +15,7 @@ const uint OAS_JITTERED_2D = 17u;         ///< jittered nx*ny grid per dimension
 const uint OAS_CMJ_2D = 18u;              ///< Kensler 2013 correlated multi-jitter per pair, padded
 const uint OAS_ZERO_TWO = 19u;            ///< Owen-scrambled (0,2)-sequence per pair, padded
 const uint OAS_HALTON = 20u;              ///< Halton with random digit permutations
+const uint OAS_SOBOL = 21u;               ///< Owen-scrambled Sobol (needs OAS_SOBOL_DIRECTION, see oas_baselines.glsl)
 
 // Offsets: where a point sits inside its OA stratum.
 const uint OAS_OFFSET_CENTERED = 0u;  ///< centre of the stratum
