@@ -95,6 +95,39 @@ TEST(Render, PlaneUnderRectangularLightMatchesAnalyticIrradiance)
     }
 }
 
+TEST(Render, TilesAndSampleBatchesEqualOneWholePass)
+{
+    // oas-render dispatches tiles x sample batches; any split must accumulate the same sums.
+    auto s = loadTestScene("cornell7d.json");
+    s.width = 20;
+    s.height = 14;
+    const auto plan = render::planDimensions(s);
+    const auto data = render::flattenScene(s);
+    const auto pattern = patternFor(s, plan, 121);
+    render::SampleBatch whole;
+    whole.width = s.width;
+    whole.height = s.height;
+    whole.count = 10;
+    std::vector<float> a(std::size_t(s.width) * s.height * 4, 0.0f), b = a;
+    render::traceCpu(data, plan, pattern, whole, a, 1);
+    for (std::uint32_t first = 0; first < 10; first += 5)
+        for (std::uint32_t ty = 0; ty < s.height; ty += 8)
+            for (std::uint32_t tx = 0; tx < s.width; tx += 8) {
+                render::SampleBatch tile;
+                tile.x0 = tx;
+                tile.y0 = ty;
+                tile.width = std::min(8u, s.width - tx);
+                tile.height = std::min(8u, s.height - ty);
+                tile.firstSample = first;
+                tile.count = 5;
+                render::traceCpu(data, plan, pattern, tile, b, 2);
+            }
+    for (std::size_t i = 0; i < a.size(); i += 4) {
+        ASSERT_EQ(a[i + 3], b[i + 3]);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[i + c], b[i + c], 1e-5f * (1 + std::abs(a[i + c])));
+    }
+}
+
 TEST(DimensionPlan, TheSevenDimensionalSceneAndRemovingEffects)
 {
     auto s = loadTestScene("cornell7d.json");

@@ -131,17 +131,25 @@ int main(int argc, char** argv)
         Progress progress(scene.sampler.spp);
         const auto start = std::chrono::steady_clock::now();
         std::uint32_t done = 0;
+        // Passes of tiles x sample batches: no single dispatch covers more than a 256 x 256 tile.
+        constexpr std::uint32_t kTile = 256;
         while (done < scene.sampler.spp && !gInterrupted) {
             oas::render::SampleBatch batch;
-            batch.width = scene.width;
-            batch.height = scene.height;
             batch.firstSample = done;
             batch.count = std::min(perBatch, scene.sampler.spp - done);
             batch.seed = seed;
-            if (gpu)
-                gpu->trace(batch);
-            else
-                oas::render::traceCpu(data, plan, pattern, batch, cpuAccumulation);
+            for (std::uint32_t ty = 0; ty < scene.height; ty += kTile) {
+                for (std::uint32_t tx = 0; tx < scene.width; tx += kTile) {
+                    batch.x0 = tx;
+                    batch.y0 = ty;
+                    batch.width = std::min(kTile, scene.width - tx);
+                    batch.height = std::min(kTile, scene.height - ty);
+                    if (gpu)
+                        gpu->trace(batch);
+                    else
+                        oas::render::traceCpu(data, plan, pattern, batch, cpuAccumulation);
+                }
+            }
             done += batch.count;
             progress.update(done, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
         }
