@@ -180,6 +180,28 @@ TEST(DimensionPlan, TheSevenDimensionalSceneAndRemovingEffects)
               "pixel.xy lens.uv time v1.light.uv v1.bsdf.uv v2.light.uv v2.bsdf.uv v2.roulette v3.light.uv ");
 }
 
+TEST(DimensionPlan, EveryScenesIntegrandDimension)
+{
+    // The scenes mirror the paper's integrands: 7D Cornell box, 9D blue spheres, a deep interior.
+    const std::vector<std::pair<std::string, std::uint32_t>> expected = {
+        {"cornell7d.json", 7}, {"blue_spheres9d.json", 9}, {"interior_deep.json", 41},
+        {"furnace.json", 8},   {"plane_rect_light.json", 4}, {"mesh_demo.json", 22}};
+    for (const auto& [name, dims] : expected) {
+        const auto plan = render::planDimensions(loadTestScene(name));
+        EXPECT_EQ(plan.usedDims, dims) << name << ": " << plan.explain();
+        std::uint32_t counted = 0;
+        for (const auto& e : plan.entries) {
+            counted += e.count;
+            EXPECT_LT(e.first + e.count - 1, plan.sampleDims) << name << " " << e.name;
+        }
+        EXPECT_EQ(counted, plan.usedDims) << name;
+    }
+    // The 9D scene: antialiasing, lens, time and two BSDF bounces, no light sampling.
+    const auto nine = render::planDimensions(loadTestScene("blue_spheres9d.json"));
+    EXPECT_NE(nine.lens, render::kAbsent);
+    EXPECT_NE(nine.time, render::kAbsent);
+}
+
 class RenderGpu : public test::GpuTest {};
 
 TEST_F(RenderGpu, AgreesWithTheCpuReference)

@@ -1,0 +1,138 @@
+#include "stats.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace oas::study {
+
+double tQuantile975(int df)
+{
+    static const double table[31] = {0,      12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                     2.201,  2.179,  2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080,
+                                     2.074,  2.069,  2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+    if (df < 1) return std::nan("");
+    if (df <= 30) return table[df];
+    // Interpolate linearly in 1/df between tabulated points.
+    static const double dfs[] = {30, 40, 60, 120, 1e300};
+    static const double ts[] = {2.042, 2.021, 2.000, 1.980, 1.960};
+    for (int i = 0; i < 4; ++i) {
+        if (df <= dfs[i + 1]) {
+            const double a = 1 / dfs[i], b = 1 / dfs[i + 1], u = (a - 1.0 / df) / (a - b);
+            return ts[i] + u * (ts[i + 1] - ts[i]);
+        }
+    }
+    return 1.960;
+}
+
+SlopeFit fitLine(const std::vector<double>& x, const std::vector<double>& y)
+{
+    SlopeFit fit;
+    const size_t n = std::min(x.size(), y.size());
+    fit.n = int(n);
+    if (n < 2) return fit;
+    double mx = 0, my = 0;
+    for (size_t i = 0; i < n; ++i) mx += x[i], my += y[i];
+    mx /= n, my /= n;
+    double sxx = 0, sxy = 0, syy = 0;
+    for (size_t i = 0; i < n; ++i) {
+        sxx += (x[i] - mx) * (x[i] - mx);
+        sxy += (x[i] - mx) * (y[i] - my);
+        syy += (y[i] - my) * (y[i] - my);
+    }
+    fit.slope = sxy / sxx;
+    fit.intercept = my - fit.slope * mx;
+    double sse = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double r = y[i] - fit.intercept - fit.slope * x[i];
+        sse += r * r;
+    }
+    fit.r2 = syy > 0 ? 1 - sse / syy : 1;
+    if (n >= 3) {
+        fit.stderr_ = std::sqrt(sse / (n - 2) / sxx);
+        const double t = tQuantile975(int(n) - 2);
+        fit.ciLow = fit.slope - t * fit.stderr_;
+        fit.ciHigh = fit.slope + t * fit.stderr_;
+    } else {
+        fit.stderr_ = fit.ciLow = fit.ciHigh = std::nan("");
+    }
+    return fit;
+}
+
+SlopeFit fitLogLog(const std::vector<double>& x, const std::vector<double>& y)
+{
+    std::vector<double> lx, ly;
+    for (size_t i = 0; i < std::min(x.size(), y.size()); ++i) {
+        if (!(x[i] > 0) || !(y[i] > 0) || !std::isfinite(x[i]) || !std::isfinite(y[i])) continue;
+        lx.push_back(std::log(x[i]));
+        ly.push_back(std::log(y[i]));
+    }
+    return fitLine(lx, ly);
+}
+
+void CsvTable::add(std::vector<std::string> row)
+{
+    if (row.size() != header_.size())
+        throw std::invalid_argument("CsvTable: row has " + std::to_string(row.size()) + " cells, header " +
+                                    std::to_string(header_.size()));
+    rows_.push_back(std::move(row));
+}
+
+namespace {
+std::string quote(const std::string& cell)
+{
+    if (cell.find_first_of(",\"\n\r") == std::string::npos) return cell;
+    std::string out = "\"";
+    for (char c : cell) {
+        if (c == '"') out += '"';
+        out += c;
+    }
+    return out + "\"";
+}
+void appendRow(std::string& out, const std::vector<std::string>& row)
+{
+    for (size_t i = 0; i < row.size(); ++i) {
+        if (i) out += ',';
+        out += quote(row[i]);
+    }
+    out += '\n';
+}
+}  // namespace
+
+std::string CsvTable::str() const
+{
+    std::string out;
+    appendRow(out, header_);
+    for (auto& r : rows_) appendRow(out, r);
+    return out;
+}
+
+void CsvTable::write(const std::string& path) const
+{
+    const std::string tmp = path + ".tmp";
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        if (!f) throw std::runtime_error("cannot write " + tmp);
+        f << str();
+        if (!f) throw std::runtime_error("write failed: " + tmp);
+    }
+    std::filesystem::rename(tmp, path);
+}
+
+std::string fmtG(double v, int digits)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    return buf;
+}
+
+std::string fmtF(double v, int decimals)
+{
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+    return buf;
+}
+
+}  // namespace oas::study

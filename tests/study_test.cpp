@@ -1,0 +1,178 @@
+// Tests of the analytic-integrand study (study/): slope fits, MSE machinery, references, CSV.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "experiment.hpp"
+#include "integrands.hpp"
+#include "stats.hpp"
+
+using namespace oas::study;
+
+TEST(StudyStats, SlopeFitExact)
+{
+    std::vector<double> n, y;
+    for (double N : {16.0, 32.0, 64.0, 128.0, 256.0, 1024.0}) {
+        n.push_back(N);
+        y.push_back(3.5 * std::pow(N, -1.5));
+    }
+    const SlopeFit f = fitLogLog(n, y);
+    EXPECT_EQ(f.n, 6);
+    EXPECT_NEAR(f.slope, -1.5, 1e-12);
+    EXPECT_NEAR(std::exp(f.intercept), 3.5, 1e-9);
+    EXPECT_NEAR(f.ciLow, -1.5, 1e-9);
+    EXPECT_NEAR(f.ciHigh, -1.5, 1e-9);
+    EXPECT_NEAR(f.r2, 1.0, 1e-12);
+}
+
+TEST(StudyStats, SlopeFitNoisyCoversTruth)
+{
+    // Log-normal noise of 10% on 12 points: the 95% interval should contain the true slope in
+    // about 95% of 400 repetitions.
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0.0, 0.1);
+    int covered = 0;
+    const int reps = 400;
+    for (int r = 0; r < reps; ++r) {
+        std::vector<double> n, y;
+        for (int k = 0; k < 12; ++k) {
+            const double N = 16 * std::pow(2.0, k / 2.0);
+            n.push_back(N);
+            y.push_back(std::pow(N, -1.78) * std::exp(noise(rng)));
+        }
+        const SlopeFit f = fitLogLog(n, y);
+        ASSERT_TRUE(f.valid());
+        EXPECT_NEAR(f.slope, -1.78, 0.1);
+        if (f.ciLow <= -1.78 && -1.78 <= f.ciHigh) ++covered;
+    }
+    EXPECT_GE(covered, int(0.91 * reps));
+    EXPECT_LE(covered, int(0.99 * reps));
+}
+
+TEST(StudyStats, TQuantile)
+{
+    EXPECT_NEAR(tQuantile975(1), 12.706, 1e-9);
+    EXPECT_NEAR(tQuantile975(10), 2.228, 1e-9);
+    EXPECT_NEAR(tQuantile975(40), 2.021, 1e-9);
+    EXPECT_NEAR(tQuantile975(1000000), 1.960, 1e-3);
+    EXPECT_GT(tQuantile975(35), 2.021);
+    EXPECT_LT(tQuantile975(35), 2.042);
+}
+
+TEST(StudyStats, FitSkipsNonPositive)
+{
+    const SlopeFit f = fitLogLog({1, 2, 4, 8}, {1, 0, 0.0625, 1.0 / 64});
+    EXPECT_EQ(f.n, 3);
+    EXPECT_NEAR(f.slope, -2.0, 1e-12);
+}
+
+TEST(StudyCsv, WritesSmallTable)
+{
+    CsvTable t({"a", "b", "c"});
+    t.add({"1", "x,y", "say \"hi\""});
+    t.add({"2.5", "", "plain"});
+    EXPECT_EQ(t.rows(), 2u);
+    EXPECT_EQ(t.str(), "a,b,c\n1,\"x,y\",\"say \"\"hi\"\"\"\n2.5,,plain\n");
+    EXPECT_THROW(t.add({"only one"}), std::invalid_argument);
+    const std::string path = ::testing::TempDir() + "study_test.csv";
+    t.write(path);
+    std::ifstream f(path);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    EXPECT_EQ(ss.str(), t.str());
+}
+
+TEST(StudyIntegrands, OneAdditiveReferenceMatchesBruteForce)
+{
+    for (Kernel k : {Kernel::Gaussian, Kernel::LinearStep, Kernel::BinaryStep}) {
+        // Midpoint rule with 2^20 cells on [0,1] (the step kernels' jumps cost O(1/n)).
+        const int n = 1 << 20;
+        double sum = 0;
+        for (int i = 0; i < n; ++i) sum += kernel(k, (i + 0.5) / n);
+        const double brute = 4 * sum / n;
+        const Reference ref = closedFormReference({Combo::Additive1, k, 4});
+        EXPECT_TRUE(ref.exact);
+        EXPECT_NEAR(ref.value, brute, 1e-5) << kernelName(k);
+    }
+}
+
+TEST(StudyIntegrands, TwoAdditiveClosedFormMatchesQuadrature)
+{
+    for (Kernel k : {Kernel::Gaussian, Kernel::LinearStep, Kernel::BinaryStep}) {
+        const Reference q = quadrature2D(k);
+        const Reference cf = closedFormReference({Combo::Additive2, k, 2});
+        EXPECT_LT(q.error, 1e-10) << kernelName(k);
+        EXPECT_NEAR(cf.value, q.value, 1e-10) << kernelName(k);
+    }
+}
+
+TEST(StudyIntegrands, EvaluateAllMatchesDirectDefinition)
+{
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    const auto fs = paperIntegrands(5);
+    std::vector<double> out(fs.size());
+    for (int t = 0; t < 200; ++t) {
+        float x[5];
+        for (auto& v : x) v = u(rng) * 0.8f;
+        evaluateAll(fs, x, 5, out.data());
+        for (size_t f = 0; f < fs.size(); ++f) {
+            double want = fs[f].combo == Combo::Multiplicative2 ? 1 : 0, n2 = 0;
+            for (int i = 0; i < 5; ++i) {
+                n2 += double(x[i]) * x[i];
+                if (fs[f].combo == Combo::Additive1) want += kernel(fs[f].kernel, x[i]);
+                for (int j = i + 1; j < 5; ++j) {
+                    const double r = std::hypot(double(x[i]), double(x[j]));
+                    if (fs[f].combo == Combo::Additive2) want += kernel(fs[f].kernel, r);
+                    if (fs[f].combo == Combo::Multiplicative2) want *= kernel(fs[f].kernel, r);
+                }
+            }
+            if (fs[f].combo == Combo::Radial) want = kernel(fs[f].kernel, std::sqrt(n2));
+            EXPECT_NEAR(out[f], want, 1e-12 * std::max(1.0, std::abs(want))) << fs[f].name();
+        }
+    }
+}
+
+TEST(StudyExperiment, ConstantIntegrandHasZeroMseForEverySampler)
+{
+    const std::vector<Integrand> fs = {{Combo::Additive1, Kernel::Constant, 4},
+                                       {Combo::Additive2, Kernel::Constant, 4},
+                                       {Combo::Multiplicative2, Kernel::Constant, 4},
+                                       {Combo::Radial, Kernel::Constant, 4}};
+    std::vector<double> refs;
+    for (auto& f : fs) refs.push_back(closedFormReference(f).value);
+    EXPECT_EQ(refs, (std::vector<double>{4, 6, 1, 1}));
+    for (auto& spec : studySamplers()) {
+        const auto ladder = countLadder(spec, 4, 16, 300);
+        ASSERT_FALSE(ladder.empty()) << spec.label;
+        const auto pat = oas::makePattern(patternRequest(spec, ladder.front(), 4));
+        const auto st = measure(pat, fs, refs, 4, ladder.front(), 8, 1, 2);
+        for (size_t f = 0; f < fs.size(); ++f) {
+            EXPECT_EQ(st[f].mse, 0.0) << spec.label << " " << fs[f].name();
+            EXPECT_EQ(st[f].mean, refs[f]) << spec.label;
+        }
+    }
+}
+
+TEST(StudyExperiment, LaddersAreValidCounts)
+{
+    for (auto& spec : studySamplers()) {
+        const auto ladder = countLadder(spec, 4, 16, 1024);
+        EXPECT_GE(ladder.size(), 3u) << spec.label;
+        for (auto n : ladder) EXPECT_NO_THROW(oas::makePattern(patternRequest(spec, n, 4))) << spec.label << " " << n;
+    }
+}
+
+TEST(StudyExperiment, UnbiasedOnTwoAdditiveBinaryStep)
+{
+    // A small strength-2 OA run: the mean estimate is within 5 standard errors of the reference.
+    const std::vector<Integrand> fs = {{Combo::Additive2, Kernel::BinaryStep, 4}};
+    const double ref = closedFormReference(fs[0]).value;
+    const auto pat = oas::makePattern(patternRequest(studySamplers()[0], 64, 4));
+    const auto st = measure(pat, fs, {ref}, 4, 64, 256, 9, 2);
+    EXPECT_NEAR(st[0].mean, ref, 5 * std::sqrt(st[0].variance / 256));
+    EXPECT_GT(st[0].mse, 0.0);
+}
