@@ -14,7 +14,7 @@ std::vector<SamplerSpec> studySamplers()
         {"BushMJ(t=2)", "bush", "mj", 2, true, false},
         {"BoseBushCMJ", "bose-bush", "cmj", 2, true, false},
         {"AddelmanKempthorneCMJ", "addelman-kempthorne", "cmj", 2, true, false},
-        {"OA-chooser(t=2,cmj)", "oa", "cmj", 2, true, false},
+        {"OA-chooser(t=2,cmj)", "oa", "cmj", 2, false, false},
         {"CMJND(t=4)", "cmjnd", "cmj", 4, false, false},
         {"Random", "random", "cmj", 0, false, true},
         {"Jittered2D-pad", "jittered2d", "cmj", 0, false, true},

@@ -15,7 +15,7 @@ struct SamplerSpec {
     std::string sampler;  ///< oas sampler name
     std::string offset = "cmj";
     std::uint32_t strength = 0;
-    bool oaStrength2 = false;  ///< counts toward the strength-2 OA goal
+    bool oaStrength2 = false;  ///< a fixed strength-2 OA construction: counts toward the goal
     bool powersOfTwo = false;  ///< ladder of powers of two only (baselines)
 };
 

@@ -85,10 +85,10 @@ int main(int argc, char** argv)
     std::vector<std::string> only;
     std::string outDir = "docs/study", studyMd = "docs/STUDY.md";
     app.add_flag("--quick", quick, "fewer trials and sizes (a few minutes on 2 cores)");
-    app.add_option("--trials", trials, "independent randomizations per (sampler, N) (quick 256, full 1024)");
+    app.add_option("--trials", trials, "independent randomizations per (sampler, N) (quick 512, full 4096)");
     app.add_option("--dims", dimsList, "dimensions to study (quick: 4 8; full: 4 8 16)");
     app.add_option("--min-spp", minSpp, "smallest sample count (16)");
-    app.add_option("--max-spp", maxSpp, "largest sample count (quick 1024, full 4096)");
+    app.add_option("--max-spp", maxSpp, "largest sample count (quick 2048, full 4096)");
     app.add_option("--threads", threads, "worker threads (0: all)");
     app.add_option("--only", only, "sampler labels to run (default: all)");
     app.add_option("--rqmc-log2n", rqmcLog2, "RQMC reference: log2 of points per replicate (16)");
@@ -102,8 +102,8 @@ int main(int argc, char** argv)
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
     }
-    if (trials == 0) trials = quick ? 256 : 1024;
-    if (maxSpp == 0) maxSpp = quick ? 1024 : 4096;
+    if (trials == 0) trials = quick ? 512 : 4096;
+    if (maxSpp == 0) maxSpp = quick ? 2048 : 4096;
     if (dimsList.empty()) dimsList = quick ? std::vector<std::uint32_t>{4, 8} : std::vector<std::uint32_t>{4, 8, 16};
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     std::string command = "oas-study";
@@ -127,6 +127,7 @@ int main(int argc, char** argv)
     std::map<std::uint32_t, std::vector<Integrand>> integrandsByDims;
     std::map<std::string, std::pair<double, double>> refTable;  // integrand name -> (value, error)
     std::ostringstream refMd;
+    std::vector<std::string> chooserNotes;
 
     for (std::uint32_t D : dimsList) {
         const auto fs = paperIntegrands(D);
@@ -161,6 +162,10 @@ int main(int argc, char** argv)
                     std::fprintf(stderr, "  skip %s N=%u: %s\n", spec.label.c_str(), N, e.what());
                     continue;
                 }
+                if (spec.sampler == "oa" && pat.blockDims < D)
+                    chooserNotes.push_back(std::to_string(D) + "D, N=" + std::to_string(N) + ": the chooser picked `" + desc +
+                                           "`, whose blocks hold fewer than " + std::to_string(D) +
+                                           " dims, so pairs across blocks are not stratified (padding)");
                 const auto st = measure(pat, fs, refs, D, N, trials, mixSeed(std::uint32_t(si), D, N), threads);
                 for (size_t f = 0; f < fs.size(); ++f) {
                     const double rel = refs[f] != 0 ? st[f].mse / (refs[f] * refs[f]) : std::nan("");
@@ -176,7 +181,10 @@ int main(int argc, char** argv)
             }
             const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count();
             std::string ns;
-            for (auto n : ladder) ns += " " + std::to_string(n);
+            for (auto n : ladder) {
+                ns += ' ';
+                ns += std::to_string(n);
+            }
             std::fprintf(stderr, "  [%uD] %-22s %5.1f s  N:%s\n", D, spec.label.c_str(), secs, ns.c_str());
         }
     }
@@ -281,6 +289,12 @@ int main(int argc, char** argv)
              << (ok ? "yes" : "**no**") << " |\n";
     }
     goalMet = goalMet && anyOa;
+    {
+        const SlopeFit f = fitOf(Dg, "OA-chooser(t=2,cmj)", binName);
+        if (f.valid())
+            goal << "| OA-chooser(t=2,cmj) (not counted: mixes constructions per N, see below) | " << cell(f) << " | ["
+                 << fmtF(f.ciLow, 2) << ", " << fmtF(f.ciHigh, 2) << "] | " << (f.slope <= -1.45 ? "yes" : "no") << " |\n";
+    }
 
     if (!studyMd.empty()) {
         std::filesystem::path p(studyMd);
@@ -306,6 +320,14 @@ int main(int argc, char** argv)
           << "D (criterion: the fitted slope of every strength-2 OA sampler ≤ −1.45; the 95% interval is shown "
              "for honesty).\n\n| strength-2 OA | slope ± 95% | 95% CI | ≤ −1.45 |\n|---|---|---|---|\n"
           << goal.str() << "\n";
+        if (!chooserNotes.empty()) {
+            o << "Chooser (`oa`) findings, reported rather than fixed here (host/oas/pattern.cpp is outside this study):\n\n";
+            for (auto& n : chooserNotes) o << "- " << n << ".\n";
+            o << "\nThe `oa` ladder takes its counts from `validCounts(\"oa\", 2, D, ...)`, which includes every s^2 "
+                 "through CMJND with d = 2; at such counts the chooser returns a padded 2-dim-block pattern, and the "
+                 "MSE at that point is several times that of Bose at a nearby N, which flattens the chooser's "
+                 "slope. The per-construction series above are the strength-2 OAs the goal is about.\n\n";
+        }
         o << "## Side by side with the paper (" << Dg << "D)\n\n| integrand | sampler | paper | this study |\n|---|---|---|---|\n";
         auto row = [&](const std::string& integ, const std::string& label, const std::string& paper) {
             o << "| " << integ << " | " << label << " | " << paper << " | " << cell(fitOf(Dg, label, integ)) << " |\n";
@@ -333,6 +355,10 @@ int main(int argc, char** argv)
           << "- Sample counts: OA constructions use the valid count nearest each half-octave target 16·2^(k/2) "
              "(within a factor 2^(1/4)); baselines use powers of two. CMJND uses strength 4 (in 4D the full "
              "factorial s⁴; in more dims, padded blocks of 4).\n"
+          << "- Samples are floats quantized to 2^-24 (below 1); the RQMC cross-check of the smooth 1-additive "
+             "Gaussian and linear-step integrands shows a bias of about 3e-8 per dimension (large z in the table "
+             "below) consistent with that quantization (truncation towards 0 of a decreasing g). Its square "
+             "(~1e-14) is far below every MSE measured here, so it does not affect the slopes.\n"
           << "- OA offsets: Bose CMJ and MJ, Bush (t = 2) MJ, Bose–Bush CMJ, Addelman–Kempthorne CMJ, the `oa` "
              "chooser with CMJ, CMJND CMJ.\n\n";
         o << "## Reference values\n\n"
@@ -354,7 +380,9 @@ int main(int argc, char** argv)
 
 #ifdef OAS_STUDY_PLOT_SCRIPT
     if (!noPlot) {
-        const std::string cmd = std::string("python3 ") + OAS_STUDY_PLOT_SCRIPT + " '" + outDir + "'";
+        // Debian's interpreter first (python3-matplotlib), whatever python3 is on PATH otherwise.
+        const std::string py = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+        const std::string cmd = py + " " + OAS_STUDY_PLOT_SCRIPT + " '" + outDir + "'";
         if (std::system(cmd.c_str()) != 0)
             std::fprintf(stderr, "note: plotting skipped or failed (needs python3-matplotlib): %s\n", cmd.c_str());
     }

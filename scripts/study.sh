@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Runs the study (oas-study): analytic integrands, MSE vs N, slopes, plots -> docs/study/, docs/STUDY.md.
+# Pass --quick for a few-minute run; without it the full mode (20-30 min on 2 cores).
+# Plots need Debian's python3-matplotlib, installed here when missing.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
+  sudo=""; [[ $(id -u) -ne 0 ]] && sudo="sudo"
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq python3-matplotlib
+fi
+scripts/build.sh
+build/oas-study "$@"

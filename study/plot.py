@@ -1,0 +1,118 @@
+#!/usr/bin/env python3
+"""Figures of the oas analytic-integrand study from the CSVs that oas-study writes.
+
+usage: python3 study/plot.py [OUT_DIR]   (default docs/study)
+writes OUT_DIR/mse_<D>d.png (MSE vs N, every integrand), goal_2additive_binary.png and
+projections.png (2D projections from points.csv). Needs python3-matplotlib.
+"""
+import csv
+import os
+import sys
+from collections import defaultdict
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+STYLE = {
+    "BoseCMJ": ("tab:red", "-", "o"), "BoseMJ": ("tab:orange", "-", "s"),
+    "BushMJ(t=2)": ("tab:brown", "-", "^"), "BoseBushCMJ": ("tab:pink", "-", "v"),
+    "AddelmanKempthorneCMJ": ("tab:purple", "-", "D"), "OA-chooser(t=2,cmj)": ("black", "-", "x"),
+    "CMJND(t=4)": ("tab:olive", "-", "*"), "Random": ("gray", "--", "."),
+    "Jittered2D-pad": ("tab:cyan", "--", "s"), "CMJ2D-pad": ("tab:blue", "--", "o"),
+    "ZeroTwo-pad": ("tab:green", "--", "^"), "Halton": ("tab:gray", ":", "v"), "Sobol": ("navy", ":", "D"),
+}
+
+
+def read(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def slopes(out):
+    path = os.path.join(out, "slopes.csv")
+    table = {}
+    if os.path.exists(path):
+        for r in read(path):
+            table[(r["dims"], r["integrand"], r["sampler"])] = float(r["slope"])
+    return table
+
+
+def draw(ax, rows, integrand, dims, slope_table, samplers=None):
+    by = defaultdict(list)
+    for r in rows:
+        if r["integrand"] == integrand:
+            by[r["sampler"]].append((int(r["N"]), float(r["mse"])))
+    for name, pts in by.items():
+        if samplers and name not in samplers:
+            continue
+        pts.sort()
+        color, ls, mk = STYLE.get(name, (None, "-", "o"))
+        s = slope_table.get((dims, integrand, name))
+        label = f"{name} ({s:.2f})" if s is not None else name
+        ax.loglog([p[0] for p in pts], [max(p[1], 1e-300) for p in pts], ls=ls, marker=mk, ms=3, color=color,
+                  lw=1, label=label)
+    ax.set_title(integrand, fontsize=8)
+    ax.set_xlabel("N", fontsize=7)
+    ax.set_ylabel("MSE", fontsize=7)
+    ax.tick_params(labelsize=6)
+    ax.grid(True, which="both", alpha=0.2)
+
+
+def main():
+    out = sys.argv[1] if len(sys.argv) > 1 else "docs/study"
+    rows = read(os.path.join(out, "analytic.csv"))
+    st = slopes(out)
+    for dims in sorted({r["dims"] for r in rows}, key=int):
+        drows = [r for r in rows if r["dims"] == dims]
+        integrands = list(dict.fromkeys(r["integrand"] for r in drows))
+        fig, axes = plt.subplots(4, 3, figsize=(15, 18))
+        for ax, integ in zip(axes.flat, integrands):
+            draw(ax, drows, integ, dims, st)
+            ax.legend(fontsize=5, ncol=2)
+        fig.suptitle(f"MSE vs N, {dims}D (legend: fitted log-log slope)")
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, f"mse_{dims}d.png"), dpi=90)
+        plt.close(fig)
+    dims = "4" if any(r["dims"] == "4" for r in rows) else rows[0]["dims"]
+    fig, ax = plt.subplots(figsize=(7, 5))
+    integ = f"2-additive binary-step {dims}D"
+    draw(ax, [r for r in rows if r["dims"] == dims], integ, dims, st)
+    n = [16, 4096]
+    ref = [r for r in rows if r["integrand"] == integ and r["N"] == "16" and r["sampler"] == "Random"]
+    if ref:
+        m0 = float(ref[0]["mse"])
+        ax.loglog(n, [m0 * (x / 16) ** -1.0 for x in n], color="gray", lw=0.6, alpha=0.5, label="N^-1")
+        ax.loglog(n, [m0 * 0.5 * (x / 16) ** -1.5 for x in n], color="red", lw=0.6, alpha=0.5, label="N^-1.5")
+    ax.legend(fontsize=6, ncol=2)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "goal_2additive_binary.png"), dpi=110)
+    plt.close(fig)
+
+    pp = os.path.join(out, "points.csv")
+    if os.path.exists(pp):
+        pts = read(pp)
+        samplers = list(dict.fromkeys(r["sampler"] for r in pts))
+        pairs = 4
+        fig, axes = plt.subplots(len(samplers), pairs, figsize=(2.2 * pairs, 2.2 * len(samplers)))
+        for i, s in enumerate(samplers):
+            srows = [r for r in pts if r["sampler"] == s]
+            names = list(dict.fromkeys(r["pair"] for r in srows))
+            for j, pname in enumerate(names[:pairs]):
+                ax = axes[i][j]
+                p = [r for r in srows if r["pair"] == pname]
+                ax.scatter([float(r["x"]) for r in p], [float(r["y"]) for r in p], s=2, color="k")
+                ax.set_xlim(0, 1)
+                ax.set_ylim(0, 1)
+                ax.set_aspect("equal")
+                ax.set_xticks([])
+                ax.set_yticks([])
+                ax.set_title(f"{s} N={p[0]['N']}\ndims {pname}", fontsize=6)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, "projections.png"), dpi=90)
+        plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
