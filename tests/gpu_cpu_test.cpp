@@ -15,11 +15,7 @@ namespace {
 
 using oas::test::GpuTest;
 
-struct Case {
-    std::string sampler;
-    std::uint32_t spp;
-    std::uint32_t strength;
-};
+using Case = oas::test::SamplerCase;
 
 std::vector<Case> oaCases()
 {
@@ -73,13 +69,7 @@ TEST_F(GpuCpu, EveryOrthogonalArrayAndOffset)
     oas::GpuGenerator& gpu = generator();
     for (const Case& c : oaCases()) {
         for (const char* offset : {"centered", "j", "mj", "cmj"}) {
-            oas::PatternRequest req;
-            req.sampler = c.sampler;
-            req.spp = c.spp;
-            req.strength = c.strength;
-            req.offset = offset;
-            req.dims = c.strength ? c.strength : 2;
-            const oas::Pattern pattern = oas::makePattern(req);
+            const oas::Pattern pattern = oas::test::patternOf(c, offset);
             oas::SampleRequest r;
             r.width = 3;
             r.height = 2;
@@ -88,7 +78,7 @@ TEST_F(GpuCpu, EveryOrthogonalArrayAndOffset)
             r.spp = pattern.N + pattern.N / 2;               // indices past N: a second pass
             r.dims = std::min<std::uint32_t>(2 * pattern.blockDims + 3, 64);  // several blocks
             r.seed = c.spp * 7919u;
-            compare(gpu, pattern, r, c.sampler + " " + std::to_string(c.spp) + " " + offset);
+            compare(gpu, pattern, r, std::string(c.sampler) + " " + std::to_string(c.spp) + " " + offset);
         }
     }
 }
@@ -141,13 +131,7 @@ TEST_F(GpuCpu, HardCasesLargestFieldsLastIndicesEdgeSeeds)
     oas::GpuGenerator& gpu = generator();
     for (const oas::test::SamplerCase& c : oas::test::hardCases()) {
         for (const char* offset : {"centered", "j", "mj", "cmj"}) {
-            oas::PatternRequest req;
-            req.sampler = c.sampler;
-            req.spp = c.spp;
-            req.strength = c.strength;
-            req.dims = c.strength ? c.strength : 2;
-            req.offset = offset;
-            const oas::Pattern pattern = oas::makePattern(req);
+            const oas::Pattern pattern = oas::test::patternOf(c, offset);
             for (std::uint32_t seed : {0u, 1u, 0xffffffffu, 0u - pattern.N}) {
                 oas::SampleRequest r;
                 r.x0 = 16382;

@@ -36,13 +36,7 @@ std::vector<Config> smallConfigs()
 
 oas::Pattern patternOf(const Config& c, const char* offset)
 {
-    oas::PatternRequest r;
-    r.sampler = c.sampler;
-    r.spp = c.spp;
-    r.strength = c.strength;
-    r.dims = c.strength ? c.strength : 2;
-    r.offset = offset;
-    return oas::makePattern(r);
+    return oas::test::patternOf({c.sampler, c.spp, c.strength}, offset);
 }
 
 std::vector<float> points(const oas::Pattern& p, std::uint32_t dims, std::uint32_t x, std::uint32_t y,
@@ -241,13 +235,7 @@ TEST(HardCases, LargestFieldsAndCountsStayExact)
     std::mt19937 rng(99);
     for (const oas::test::SamplerCase& h : oas::test::hardCases()) {
         for (const char* offset : {"j", "cmj"}) {
-            oas::PatternRequest r;
-            r.sampler = h.sampler;
-            r.spp = h.spp;
-            r.strength = h.strength;
-            r.dims = h.strength ? h.strength : 2;
-            r.offset = offset;
-            const oas::Pattern p = oas::makePattern(r);
+            const oas::Pattern p = oas::test::patternOf(h, offset);
             const std::uint32_t dims = std::min<std::uint32_t>(p.blockDims, 64) + 2;
             std::vector<std::uint32_t> indices = {0, 1, p.N - 1, p.N - 2, p.N, 2 * p.N - 1, 0xffffffffu};
             for (int i = 0; i < 24; ++i) indices.push_back(rng() % p.N);

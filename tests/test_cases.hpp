@@ -3,6 +3,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "oas/pattern.hpp"
+
 namespace oas::test {
 
 /// A sampler request: name, spp, strength (0: the sampler's default).
@@ -24,6 +26,18 @@ inline std::vector<SamplerCase> hardCases()
             {"addelman-kempthorne", 2u * 2039u * 2039u, 0},  // a large odd prime
             {"cmjnd", 1u << 24, 24},                       // s = 2, d = 24
             {"cmjnd", 14348907u, 15}};                     // s = 3, d = 15
+}
+
+/// The pattern of a case with an offset (dims: the strength, or 2).
+inline Pattern patternOf(const SamplerCase& c, const char* offset)
+{
+    PatternRequest r;
+    r.sampler = c.sampler;
+    r.spp = c.spp;
+    r.strength = c.strength;
+    r.dims = c.strength ? c.strength : 2;
+    r.offset = offset;
+    return makePattern(r);
 }
 
 /// Integer power (no overflow checks: test sizes only).

@@ -56,6 +56,10 @@ std::string samplerDescription(const std::string& name);
 /// True for the orthogonal-array constructions.
 bool isOrthogonalArray(const std::string& name);
 
+/// The pattern's field kind for OAS_STATIC_FIELD_KIND specialization: 0 prime (or no field),
+/// 1 GF(2^k) with k > 1, 2 odd extension field (OAS_FIELD_* in shaders/oas/oas_gf.glsl).
+inline std::uint32_t fieldKind(const Pattern& p) { return p.fieldK <= 1 ? 0u : (p.fieldP == 2 ? 1u : 2u); }
+
 /// Sobol direction numbers, OAS_SOBOL_BLOCK (64) dimensions x 32 bits, [dim * 32 + bit], bit 0
 /// the most significant. Dimension 0 is van der Corput, dimension 1 uses x + 1 with m = 1 (with
 /// dimension 0, the (0,2)-sequence); dimension j >= 2 uses the j-th primitive polynomial over GF(2)

@@ -27,9 +27,8 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     : context_(context), pattern_(pattern), width_(std::uint32_t(data.globals.image.x)),
       height_(std::uint32_t(data.globals.image.y))
 {
-    const std::uint32_t fieldKind = pattern.fieldK <= 1 ? 0u : (pattern.fieldP == 2 ? 1u : 2u);
     const vk::ComputePipeline::SpecConstants spec = {
-        {0, pattern.construction}, {1, pattern.offset}, {2, fieldKind},
+        {0, pattern.construction}, {1, pattern.offset}, {2, oas::fieldKind(pattern)},
         {10, plan.hasLens}, {11, plan.hasMotion}, {12, plan.nee}, {13, plan.mis}, {14, plan.lobe != kAbsent},
         {15, plan.maxDepth}, {16, plan.roulette != kAbsent ? plan.rouletteStart : 0u},
         {20, plan.pixel}, {21, plan.lens}, {22, plan.time}, {23, plan.vertexBase}, {24, plan.vertexStride},
