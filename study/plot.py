@@ -2,8 +2,11 @@
 """Figures of the oas analytic-integrand study from the CSVs that oas-study writes.
 
 usage: python3 study/plot.py [OUT_DIR]   (default docs/study)
-writes OUT_DIR/mse_<D>d.png (MSE vs N, every integrand), goal_2additive_binary.png and
-projections.png (2D projections from points.csv). Needs python3-matplotlib.
+writes OUT_DIR/mse_<D>d.png (MSE vs N, every integrand), goal_2additive_binary.png,
+projections.png (2D projections from points.csv), the scene figures scene_error_vs_spp.png,
+scene_error_vs_time.png and scene_equal_time.png (from scene_curves.csv, scene_equal_time.csv and
+the PNGs under OUT_DIR/scenes/), and spectra.png (plot_spectra.py). Each figure is drawn only when
+its CSV exists. Needs python3-matplotlib.
 """
 import csv
 import os
@@ -60,8 +63,74 @@ def draw(ax, rows, integrand, dims, slope_table, samplers=None):
     ax.grid(True, which="both", alpha=0.2)
 
 
+def scene_figures(out):
+    path = os.path.join(out, "scene_curves.csv")
+    if not os.path.exists(path):
+        return
+    rows = read(path)
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    for xkey, fname, xlabel in (("spp", "scene_error_vs_spp.png", "samples per pixel"),
+                                ("seconds", "scene_error_vs_time.png", "render time on lavapipe (s)")):
+        fig, axes = plt.subplots(2, len(scenes), figsize=(5.5 * len(scenes), 9), squeeze=False)
+        for j, scene in enumerate(scenes):
+            for i, (ykey, what) in enumerate((("rel_mse", "full image"), ("rel_mse_crop", "crop"))):
+                ax = axes[i][j]
+                by = defaultdict(list)
+                for r in rows:
+                    if r["scene"] == scene:
+                        by[r["sampler"]].append((float(r[xkey]), float(r[ykey])))
+                for name, pts in by.items():
+                    pts.sort()
+                    color, ls, mk = STYLE.get(name, (None, "-", "o"))
+                    ax.loglog([p[0] for p in pts], [max(p[1], 1e-12) for p in pts], ls=ls, marker=mk, ms=3,
+                              color=color, lw=1, label=name)
+                ax.set_title(f"{scene}: relMSE, {what}", fontsize=9)
+                ax.set_xlabel(xlabel, fontsize=8)
+                ax.set_ylabel("relative MSE", fontsize=8)
+                ax.tick_params(labelsize=7)
+                ax.grid(True, which="both", alpha=0.2)
+                if i == 0 and j == 0:
+                    ax.legend(fontsize=6, ncol=2)
+        fig.tight_layout()
+        fig.savefig(os.path.join(out, fname), dpi=90)
+        plt.close(fig)
+
+    eq_path = os.path.join(out, "scene_equal_time.csv")
+    if not os.path.exists(eq_path):
+        return
+    import matplotlib.image as mpimg
+    eq = read(eq_path)
+    samplers = list(dict.fromkeys(r["sampler"] for r in eq))
+    fig, axes = plt.subplots(len(scenes), len(samplers) + 1, figsize=(1.9 * (len(samplers) + 1), 2.1 * len(scenes)),
+                             squeeze=False)
+    for i, scene in enumerate(scenes):
+        ref = os.path.join(out, "scenes", f"{scene}_reference.png")
+        for ax in axes[i]:
+            ax.axis("off")
+        if os.path.exists(ref):
+            axes[i][0].imshow(mpimg.imread(ref))
+            axes[i][0].set_title(f"{scene}\nreference", fontsize=6)
+        for j, name in enumerate(samplers):
+            r = [x for x in eq if x["scene"] == scene and x["sampler"] == name]
+            img = os.path.join(out, "scenes", r[0]["image"]) if r else None
+            if img and os.path.exists(img):
+                axes[i][j + 1].imshow(mpimg.imread(img), interpolation="nearest")
+                axes[i][j + 1].set_title(f"{name}\n{r[0]['spp']} spp, {1000 * float(r[0]['seconds']):.0f} ms\n"
+                                         f"relMSE {float(r[0]['rel_mse']):.2e}", fontsize=5)
+    fig.suptitle("relative squared error at equal time (log colour scale 1e-5 .. 10)", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "scene_equal_time.png"), dpi=110)
+    plt.close(fig)
+
+
 def main():
     out = sys.argv[1] if len(sys.argv) > 1 else "docs/study"
+    scene_figures(out)
+    if os.path.exists(os.path.join(out, "spectra.csv")):
+        import plot_spectra
+        plot_spectra.main(["plot_spectra.py", out])
+    if not os.path.exists(os.path.join(out, "analytic.csv")):
+        return
     rows = read(os.path.join(out, "analytic.csv"))
     st = slopes(out)
     for dims in sorted({r["dims"] for r in rows}, key=int):

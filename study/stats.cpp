@@ -1,6 +1,8 @@
 #include "stats.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -133,6 +135,52 @@ std::string fmtF(double v, int decimals)
     char buf[64];
     std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
     return buf;
+}
+
+}  // namespace oas::study
+
+namespace oas::study {
+
+double interpLogLog(const std::vector<double>& x, const std::vector<double>& y, double at)
+{
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    if (x.size() != y.size() || x.empty() || !(at > 0)) return nan;
+    if (at < x.front() * (1 - 1e-12) || at > x.back() * (1 + 1e-12)) return nan;
+    for (size_t i = 0; i + 1 < x.size(); ++i) {
+        if (at > x[i + 1]) continue;
+        if (!(x[i] > 0 && x[i + 1] > x[i] && y[i] > 0 && y[i + 1] > 0)) return nan;
+        const double u = std::log(at / x[i]) / std::log(x[i + 1] / x[i]);
+        return std::exp(std::log(y[i]) + std::clamp(u, 0.0, 1.0) * std::log(y[i + 1] / y[i]));
+    }
+    return y.back() > 0 ? y.back() : nan;  // single point, at == x
+}
+
+Crossing firstCrossing(const std::vector<double>& x, const std::vector<double>& y, double target)
+{
+    Crossing c;
+    if (x.size() != y.size() || x.empty() || !(target > 0)) return c;
+    if (y.front() <= target) {
+        c.x = x.front();
+        c.found = c.atFirst = true;
+        return c;
+    }
+    for (size_t i = 0; i + 1 < x.size(); ++i) {
+        if (!(y[i] > target && y[i + 1] <= target)) continue;
+        if (!(x[i] > 0 && x[i + 1] > 0 && y[i + 1] > 0)) return c;
+        const double u = std::log(target / y[i]) / std::log(y[i + 1] / y[i]);
+        c.x = std::exp(std::log(x[i]) + u * std::log(x[i + 1] / x[i]));
+        c.found = true;
+        return c;
+    }
+    return c;
+}
+
+double median(std::vector<double> v)
+{
+    if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 }  // namespace oas::study

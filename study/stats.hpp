@@ -24,6 +24,23 @@ SlopeFit fitLogLog(const std::vector<double>& x, const std::vector<double>& y);
 /// Plain least squares of y on x.
 SlopeFit fitLine(const std::vector<double>& x, const std::vector<double>& y);
 
+/// Piecewise-linear interpolation of log y over log x at `at` (x ascending, all positive);
+/// NaN when `at` lies outside [x.front(), x.back()] or the inputs are unusable. The study reads
+/// "error at equal time" off measured error-versus-time curves with it.
+double interpLogLog(const std::vector<double>& x, const std::vector<double>& y, double at);
+
+/// Where a measured curve first comes down to `target`: the x at which the piecewise log-log
+/// line through (x, y) (x ascending) reaches y = target ("time to reach a target error").
+struct Crossing {
+    double x = 0;
+    bool found = false;       ///< false: the curve never reaches target within the measured range
+    bool atFirst = false;     ///< y.front() <= target already: x = x.front() is an upper bound
+};
+Crossing firstCrossing(const std::vector<double>& x, const std::vector<double>& y, double target);
+
+/// Median of the values (NaN when empty).
+double median(std::vector<double> v);
+
 /// A CSV table: a header and rows of already formatted cells; cells with commas, quotes or
 /// newlines are quoted (RFC 4180).
 class CsvTable {

@@ -125,34 +125,21 @@ int main(int argc, char** argv)
                   << "sampler: " << choice << "\n";
         std::signal(SIGINT, onInterrupt);
         std::vector<float> cpuAccumulation(std::size_t(scene.width) * scene.height * 4, 0.0f);
-        // Batches: the GPU takes a few samples per dispatch (a bounded dispatch time on real GPUs,
-        // and under lavapipe's per-invocation loop cap); Ctrl-C is honoured between batches.
-        const std::uint32_t perBatch = std::max<std::uint32_t>(1, 8 / std::max<std::uint32_t>(1, plan.maxDepth));
         Progress progress(scene.sampler.spp);
         const auto start = std::chrono::steady_clock::now();
-        std::uint32_t done = 0;
-        // Passes of tiles x sample batches: no single dispatch covers more than a 256 x 256 tile.
-        constexpr std::uint32_t kTile = 256;
-        while (done < scene.sampler.spp && !gInterrupted) {
-            oas::render::SampleBatch batch;
-            batch.firstSample = done;
-            batch.count = std::min(perBatch, scene.sampler.spp - done);
-            batch.seed = seed;
-            for (std::uint32_t ty = 0; ty < scene.height; ty += kTile) {
-                for (std::uint32_t tx = 0; tx < scene.width; tx += kTile) {
-                    batch.x0 = tx;
-                    batch.y0 = ty;
-                    batch.width = std::min(kTile, scene.width - tx);
-                    batch.height = std::min(kTile, scene.height - ty);
-                    if (gpu)
-                        gpu->trace(batch);
-                    else
-                        oas::render::traceCpu(data, plan, pattern, batch, cpuAccumulation);
-                }
-            }
-            done += batch.count;
-            progress.update(done, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-        }
+        const std::uint32_t done = oas::render::forEachBatch(
+            scene.width, scene.height, scene.sampler.spp, oas::render::samplesPerBatch(plan), seed,
+            [&](const oas::render::SampleBatch& batch) {
+                if (gpu)
+                    gpu->trace(batch);
+                else
+                    oas::render::traceCpu(data, plan, pattern, batch, cpuAccumulation);
+            },
+            [&](std::uint32_t samplesDone) {  // Ctrl-C is honoured between passes
+                progress.update(samplesDone,
+                                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+                return !gInterrupted;
+            });
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (gInterrupted) std::cerr << "\ninterrupted: writing the " << done << " spp accumulated so far\n";
         const std::vector<float> accumulation = gpu ? gpu->accumulation() : cpuAccumulation;

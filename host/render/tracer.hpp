@@ -3,6 +3,7 @@
 // (pt_render.comp) or on the CPU (the same GLSL compiled as C++: the reference tracer).
 // Both accumulate radiance sums per pixel: rgb = sum of sample radiances, a = samples taken.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <vector>
@@ -22,6 +23,19 @@ struct SampleBatch {
     std::uint32_t seed = 0;
 };
 
+/// Samples per dispatch for a plan: a few paths per invocation, so that one dispatch stays short on
+/// real GPUs and under lavapipe's per-invocation loop cap (65535 iterations; DESIGN-NOTES).
+std::uint32_t samplesPerBatch(const DimensionPlan& plan);
+
+/// Visits samples [0, spp) of a width x height image as passes of sample batches, each pass over
+/// tiles of at most kRenderTile^2 pixels (bounded dispatches). `trace` gets every batch;
+/// `afterPass(samplesDone)` runs after each pass and returns false to stop early (Ctrl-C).
+/// Returns the samples per pixel done.
+constexpr std::uint32_t kRenderTile = 256;
+std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
+                           std::uint32_t seed, const std::function<void(const SampleBatch&)>& trace,
+                           const std::function<bool(std::uint32_t)>& afterPass = {});
+
 /// The CPU reference: `threads` workers (0: all).
 void traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, const SampleBatch& batch,
               std::vector<float>& accumulation, unsigned threads = 0);
@@ -39,6 +53,12 @@ public:
     /// The accumulation buffer (width * height vec4 of the image).
     std::vector<float> accumulation() const;
     void clear();
+    /// Whether `pattern` runs on this tracer's pipeline (same construction, offset and field kind:
+    /// the specialization constants); other pattern fields are push constants.
+    bool accepts(const Pattern& pattern) const;
+    /// Switches to another pattern of the same specialization without recompiling (the study
+    /// renders many sample counts per sampler). Throws std::invalid_argument otherwise.
+    void setPattern(const Pattern& pattern);
 
 private:
     vk::Context& context_;

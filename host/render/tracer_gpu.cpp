@@ -1,5 +1,7 @@
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
+#include <stdexcept>
 
 #include "render/tracer.hpp"
 #include "pt_render_spv.h"
@@ -46,6 +48,51 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
 }
 
 GpuTracer::~GpuTracer() = default;
+
+bool GpuTracer::accepts(const Pattern& pattern) const
+{
+    return pattern.construction == pattern_.construction && pattern.offset == pattern_.offset &&
+           oas::fieldKind(pattern) == oas::fieldKind(pattern_);
+}
+
+void GpuTracer::setPattern(const Pattern& pattern)
+{
+    if (!accepts(pattern))
+        throw std::invalid_argument("GpuTracer::setPattern: " + oas::describe(pattern) +
+                                    " needs another pipeline than " + oas::describe(pattern_));
+    pattern_ = pattern;
+}
+
+std::uint32_t samplesPerBatch(const DimensionPlan& plan)
+{
+    return std::max<std::uint32_t>(1, 8 / std::max<std::uint32_t>(1, plan.maxDepth));
+}
+
+std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
+                           std::uint32_t seed, const std::function<void(const SampleBatch&)>& trace,
+                           const std::function<bool(std::uint32_t)>& afterPass)
+{
+    std::uint32_t done = 0;
+    perBatch = std::max(1u, perBatch);
+    while (done < spp) {
+        SampleBatch batch;
+        batch.firstSample = done;
+        batch.count = std::min(perBatch, spp - done);
+        batch.seed = seed;
+        for (std::uint32_t ty = 0; ty < height; ty += kRenderTile) {
+            for (std::uint32_t tx = 0; tx < width; tx += kRenderTile) {
+                batch.x0 = tx;
+                batch.y0 = ty;
+                batch.width = std::min(kRenderTile, width - tx);
+                batch.height = std::min(kRenderTile, height - ty);
+                trace(batch);
+            }
+        }
+        done += batch.count;
+        if (afterPass && !afterPass(done)) break;
+    }
+    return done;
+}
 
 void GpuTracer::clear() { std::memset(buffers_[5]->data(), 0, buffers_[5]->size()); }
 

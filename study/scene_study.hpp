@@ -1,0 +1,66 @@
+#pragma once
+// The scene part of the study: relative MSE of path-traced images (full image and a crop) against
+// a high-spp reference, versus samples per pixel and versus wall-clock time on the Vulkan device
+// (lavapipe in CI), for every sampler of the study; equal-time and time-to-target tables; false
+// colour error images at equal time; and each sampler's extra share of a frame's time.
+// Jarosz et al. 2019 report relative MSE for the same kinds of scenes at 121/128 spp (DESIGN §4).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "experiment.hpp"
+#include "vk/context.hpp"
+#include "image/metrics.hpp"
+
+namespace oas::study {
+
+/// A study scene and the crop that holds its effect of interest (fractions of the image).
+struct SceneCase {
+    std::string file;  ///< under the scenes folder
+    double cropX, cropY, cropW, cropH;
+    std::string cropWhat;
+};
+
+/// cornell7d, blue_spheres9d and interior_deep, with their crops.
+std::vector<SceneCase> studyScenes();
+
+/// The crop of `c` in pixels of a width x height image (at least 1 x 1, inside the image).
+oas::image::Crop cropPixels(const SceneCase& c, std::uint32_t width, std::uint32_t height);
+
+struct SceneStudyOptions {
+    std::string scenesDir = "scenes";
+    std::vector<std::string> scenes;  ///< scene names (file stems); empty: all of studyScenes()
+    std::uint32_t width = 64;         ///< render width; the height keeps the scene's aspect
+    std::uint32_t minSpp = 16, maxSpp = 1024;
+    std::uint32_t referenceSpp = 65536;  ///< Sobol reference, rendered as two independent halves
+    std::uint32_t trials = 2;            ///< independent renders (user seeds) per (sampler, spp)
+    std::string outDir = "docs/study";
+    std::string command;  ///< how the study was invoked (for the markdown)
+    bool quick = false;
+};
+
+/// One render's measurement.
+struct SceneMeasurement {
+    std::string scene, sampler, pattern;
+    std::uint32_t spp = 0, trial = 0;
+    double seconds = 0;           ///< wall-clock time of the render's dispatches (pipeline build excluded)
+    double relMse = 0, relMseCrop = 0;  ///< against the reference, minus the reference's own error
+    double relMseRaw = 0, relMseCropRaw = 0;  ///< uncorrected
+};
+
+/// A sampler's curve on one scene: per spp, the median time and the mean relMSE over trials.
+struct SceneCurve {
+    std::string scene, sampler;
+    std::vector<double> spp, seconds, relMse, relMseCrop;
+};
+
+/// Mean over trials / median time per (scene, sampler, spp), in ladder order.
+std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements);
+
+/// Runs the scene study on the Vulkan device and writes outDir/scenes.csv, scene_curves.csv,
+/// scene_tables.md (the markdown section that STUDY.md includes), reference and equal-time error
+/// images under outDir/scenes/. Returns the markdown section.
+std::string runSceneStudy(const SceneStudyOptions& options, const std::vector<SamplerSpec>& samplers,
+                          oas::vk::Context& context);
+
+}  // namespace oas::study
