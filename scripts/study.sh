@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs the study (oas-study): analytic integrands, MSE vs N, slopes, plots -> docs/study/, docs/STUDY.md.
-# Pass --quick for a few-minute run; without it the full mode (20-30 min on 2 cores).
+# Pass --quick for a few-minute run; without it the full mode (about 50 min on 2 cores).
+# Other oas-study options pass through, e.g. --parts scenes to rerun one part.
 # Plots need Debian's python3-matplotlib, installed here when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
