@@ -29,15 +29,6 @@ using namespace oas::study;
 
 namespace {
 
-std::uint32_t mixSeed(std::uint32_t a, std::uint32_t b, std::uint32_t c)
-{
-    std::uint32_t h = 0x9E3779B9u * (a + 1) ^ (b * 0x85EBCA6Bu) ^ (c * 0xC2B2AE35u);
-    h ^= h >> 16;
-    h *= 0x7FEB352Du;
-    h ^= h >> 15;
-    return h;
-}
-
 std::string cpuModel()
 {
     std::ifstream f("/proc/cpuinfo");
@@ -181,7 +172,7 @@ std::string cell(const SlopeFit& f)
 int main(int argc, char** argv)
 {
     CLI::App app{"oas-study: the sampler study (analytic MSE slopes, scene error vs spp and time, cost, projections and spectra) -> docs/study, docs/STUDY.md"};
-    bool quick = false, noPoints = false, noPlot = false;
+    bool quick = false, noPlot = false;
     std::uint32_t trials = 0, minSpp = 16, maxSpp = 0, rqmcLog2 = 16, rqmcReps = 64;
     unsigned threads = 0;
     std::vector<std::uint32_t> dimsList;

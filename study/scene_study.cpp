@@ -38,20 +38,6 @@ double nearest(const std::vector<double>& counts, double target)
     return best;
 }
 
-oas::image::Image imageOf(const std::vector<float>& accumulation, std::uint32_t width, std::uint32_t height)
-{
-    oas::image::Image image;
-    image.width = width;
-    image.height = height;
-    image.rgba.resize(accumulation.size());
-    for (std::size_t i = 0; i < accumulation.size(); i += 4) {
-        const float n = std::max(accumulation[i + 3], 1.0f);
-        for (int c = 0; c < 3; ++c) image.rgba[i + c] = accumulation[i + c] / n;
-        image.rgba[i + 3] = 1.0f;
-    }
-    return image;
-}
-
 bool isOa(const SamplerSpec& s) { return s.strength > 0; }
 
 std::string sci(double v) { return std::isfinite(v) ? fmtG(v, 3) : "—"; }
@@ -71,8 +57,7 @@ public:
         std::vector<oas::Pattern> todo;
         for (const auto& p : patterns)
             if (!find(p) && std::none_of(todo.begin(), todo.end(), [&](const oas::Pattern& q) {
-                    return q.construction == p.construction && q.offset == p.offset &&
-                           oas::fieldKind(q) == oas::fieldKind(p);
+                    return oas::specializationKey(q) == oas::specializationKey(p);
                 }))
                 todo.push_back(p);
         std::vector<std::unique_ptr<oas::render::GpuTracer>> made(todo.size());
@@ -136,17 +121,8 @@ Render render(oas::render::GpuTracer& tracer, const oas::render::DimensionPlan& 
                               [&](const oas::render::SampleBatch& b) { tracer.trace(b); });
     Render r;
     r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    r.image = imageOf(tracer.accumulation(), width, height);
+    r.image = oas::image::imageFromAccumulation(tracer.accumulation(), width, height);
     return r;
-}
-
-std::uint32_t seedOf(std::uint32_t scene, std::uint32_t sampler, std::uint32_t spp, std::uint32_t trial)
-{
-    std::uint32_t h = 0x9E3779B9u * (scene + 1) ^ (sampler * 0x85EBCA6Bu) ^ (spp * 0xC2B2AE35u) ^ (trial * 0x27D4EB2Fu);
-    h ^= h >> 16;
-    h *= 0x7FEB352Du;
-    h ^= h >> 15;
-    return h;
 }
 
 std::string slug(std::string s)
@@ -312,7 +288,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             for (const auto& [spp, pattern] : runs[k]) {
                 auto& tracer = cache.get(pattern);
                 for (std::uint32_t t = 0; t < o.trials; ++t) {
-                    const Render r = render(tracer, plan, scene.width, scene.height, spp, seedOf(si, k, spp, t));
+                    const Render r = render(tracer, plan, scene.width, scene.height, spp, mixSeed(si, k, spp, t));
                     SceneMeasurement m;
                     m.scene = info.name;
                     m.sampler = s.label;
@@ -362,6 +338,10 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     };
     // Random at a count it did not render (e.g. Addelman-Kempthorne's 162): its curve is dense
     // (powers of two and Bose's counts) and ∝ 1/spp, so log-log interpolation is accurate.
+    auto cmj2dAt128 = [&](const std::string& scene) {
+        const SceneCurve* cmj = curveOf(scene, "CMJ2D-pad");
+        return cmj ? valueAt(*cmj, 128, false) : std::numeric_limits<double>::quiet_NaN();
+    };
     auto randomAt = [&](const SceneCurve* rnd, double spp) {
         if (!rnd) return std::numeric_limits<double>::quiet_NaN();
         const double exact = valueAt(*rnd, spp, false);
@@ -410,8 +390,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
           "|---|---|---|---|---|---|---|---|\n";
     for (const auto& info : infos) {
         const SceneCurve* rnd = curveOf(info.name, "Random");
-        const SceneCurve* cmj = curveOf(info.name, "CMJ2D-pad");
-        const double cmj128 = cmj ? valueAt(*cmj, 128, false) : NAN;
+        const double cmj128 = cmj2dAt128(info.name);
         double bestOa = 1e300;
         std::string bestOaName;
         double bestOaRnd = NAN;
@@ -467,8 +446,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
           "|---|---|---|---|---|---|\n";
     for (const auto& info : infos) {
         const SceneCurve* rnd = curveOf(info.name, "Random");
-        const SceneCurve* cmj = curveOf(info.name, "CMJ2D-pad");
-        const double cmj128 = cmj ? valueAt(*cmj, 128, false) : NAN;
+        const double cmj128 = cmj2dAt128(info.name);
         for (const auto& s : samplers) {
             const double pv = paperOf(info.name, s.label);
             const SceneCurve* c = curveOf(info.name, s.label);

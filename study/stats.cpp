@@ -175,6 +175,15 @@ Crossing firstCrossing(const std::vector<double>& x, const std::vector<double>& 
     return c;
 }
 
+std::uint32_t mixSeed(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d)
+{
+    std::uint32_t h = 0x9E3779B9u * (a + 1) ^ (b * 0x85EBCA6Bu) ^ (c * 0xC2B2AE35u) ^ (d * 0x27D4EB2Fu);
+    h ^= h >> 16;
+    h *= 0x7FEB352Du;
+    h ^= h >> 15;
+    return h;
+}
+
 double median(std::vector<double> v)
 {
     if (v.empty()) return std::numeric_limits<double>::quiet_NaN();

@@ -38,6 +38,10 @@ struct Crossing {
 };
 Crossing firstCrossing(const std::vector<double>& x, const std::vector<double>& y, double target);
 
+/// A well-mixed 32-bit seed from up to four small integers (distinct trials, samplers, counts get
+/// unrelated randomizations).
+std::uint32_t mixSeed(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d = 0);
+
 /// Median of the values (NaN when empty).
 double median(std::vector<double> v);
 

@@ -22,7 +22,7 @@ GpuGenerator::GpuGenerator(vk::Context& context, bool hashOnly) : context_(conte
 
 vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
 {
-    const auto key = hashOnly_ ? std::make_tuple(0u, 0u, 0u) : std::make_tuple(pattern.construction, pattern.offset, oas::fieldKind(pattern));
+    const auto key = hashOnly_ ? std::make_tuple(0u, 0u, 0u) : oas::specializationKey(pattern);
     auto& slot = pipelines_[key];
     if (!slot) {
         const std::uint32_t* code = hashOnly_ ? oas_generate_hash_only_spv : oas_generate_spv;

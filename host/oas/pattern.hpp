@@ -3,6 +3,7 @@
 // sample counts, choosing the best orthogonal array for a request, and the CPU reference
 // generator (which runs the shared GLSL code, see glsl_compat.hpp).
 #include <cstdint>
+#include <tuple>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -59,6 +60,12 @@ bool isOrthogonalArray(const std::string& name);
 /// The pattern's field kind for OAS_STATIC_FIELD_KIND specialization: 0 prime (or no field),
 /// 1 GF(2^k) with k > 1, 2 odd extension field (OAS_FIELD_* in shaders/oas/oas_gf.glsl).
 inline std::uint32_t fieldKind(const Pattern& p) { return p.fieldK <= 1 ? 0u : (p.fieldP == 2 ? 1u : 2u); }
+/// What a GPU pipeline is specialized on (construction, offset, field kind): two patterns with the
+/// same key run on the same pipeline, the rest of the pattern being push constants.
+inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> specializationKey(const Pattern& p)
+{
+    return {p.construction, p.offset, fieldKind(p)};
+}
 
 /// Sobol direction numbers, OAS_SOBOL_BLOCK (64) dimensions x 32 bits, [dim * 32 + bit], bit 0
 /// the most significant. Dimension 0 is van der Corput, dimension 1 uses x + 1 with m = 1 (with
