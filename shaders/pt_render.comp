@@ -55,6 +55,7 @@ layout(std430, binding = 2) readonly buffer Lights { PtLight lights[]; };
 layout(std430, binding = 3) readonly buffer Nodes { PtNode nodes[]; };
 layout(std430, binding = 4) readonly buffer Globals { PtGlobals globals; };
 layout(std430, binding = 5) buffer Accumulation { vec4 accumulation[]; };
+layout(std430, binding = 7) buffer Counters { uint nonFiniteSamples; } counters;
 
 PtShape pt_shape(uint i) { return shapes[i]; }
 PtMaterial pt_material(uint i) { return materials[i]; }
@@ -73,10 +74,16 @@ void main()
     PtSampleState st;
     st.seed = oas_pixel_seed(px, py, params.seed);
     vec3 sum = vec3(0.0f);
+    uint nonFinite = 0u;
     for (uint i = 0u; i < params.sampleCount; ++i) {
         st.index = params.firstSample + i;
-        sum += pt_radiance(st, px, py);
+        vec3 l = pt_radiance(st, px, py);
+        if (pt_finite(l))
+            sum += l;
+        else
+            ++nonFinite;
     }
     uint pixel = py * uint(globals.image.x) + px;
     accumulation[pixel] += vec4(sum, float(params.sampleCount));
+    if (nonFinite > 0u) atomicAdd(counters.nonFiniteSamples, nonFinite);
 }

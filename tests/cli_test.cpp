@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -51,8 +52,9 @@ std::string describe(const ToolRun& r)
 
 /// Runs oas-samples with `args`; stdout and stderr are read concurrently (poll) so neither pipe
 /// can fill up and stall the child. The child gets VK_DRIVER_FILES = lavapipe when the caller set
-/// neither VK_DRIVER_FILES nor VK_ICD_FILENAMES.
-ToolRun runTool(const std::vector<std::string>& args)
+/// neither VK_DRIVER_FILES nor VK_ICD_FILENAMES. `env` entries ("NAME=value") replace or add to
+/// the inherited environment.
+ToolRun runTool(const std::vector<std::string>& args, const std::vector<std::string>& env = {})
 {
     ToolRun r;
     std::vector<std::string> argStrings = {OAS_SAMPLES_EXE};
@@ -63,7 +65,13 @@ ToolRun runTool(const std::vector<std::string>& args)
     argv.push_back(nullptr);
 
     std::vector<std::string> envStrings;
-    for (char** e = environ; *e; ++e) envStrings.emplace_back(*e);
+    const auto overridden = [&](const std::string& entry) {
+        const std::string name = entry.substr(0, entry.find('=') + 1);
+        return std::any_of(env.begin(), env.end(), [&](const std::string& e) { return e.rfind(name, 0) == 0; });
+    };
+    for (char** e = environ; *e; ++e)
+        if (!overridden(*e)) envStrings.emplace_back(*e);
+    envStrings.insert(envStrings.end(), env.begin(), env.end());
     if (!std::getenv("VK_DRIVER_FILES") && !std::getenv("VK_ICD_FILENAMES"))
         envStrings.push_back(std::string("VK_DRIVER_FILES=") + kLavapipeIcd);
     std::vector<char*> envp;
@@ -304,6 +312,61 @@ TEST_F(CliTest, NpyFileIsValidAndHoldsTheSameFloats)
     expectBitIdentical(expectedValues("bose", 49, 5, 7, 3, 4), values);
 }
 
+/// A failed GPU run: a visible SKIPPED when there is no device (unless OAS_REQUIRE_GPU=1),
+/// otherwise a failure that shows the run.
+void failOrSkipWithoutDevice(const ToolRun& gpu)
+{
+    // The tool reports a missing device through vk::NoDeviceError's messages, exit status 1.
+    const bool noDevice = gpu.status == 1 && (gpu.err.find("no usable Vulkan driver") != std::string::npos ||
+                                              gpu.err.find("no Vulkan physical devices") != std::string::npos ||
+                                              gpu.err.find("no Vulkan 1.1 device") != std::string::npos ||
+                                              gpu.err.find("Vulkan loader is") != std::string::npos);
+    const char* require = std::getenv("OAS_REQUIRE_GPU");
+    const bool required = require && std::string(require) == "1";
+    if (noDevice && !required) GTEST_SKIP() << "SKIPPED: no Vulkan device: " << gpu.err;
+    FAIL() << (noDevice ? "no Vulkan device and OAS_REQUIRE_GPU=1\n" : "GPU run failed\n") << describe(gpu);
+}
+
+TEST_F(CliTest, GpuRunOnAFreshMachineIsQuiet)
+{
+    // Regression (issue 8): on a new machine (empty HOME) with XDG_CACHE_HOME set but empty, which
+    // the XDG base-directory spec says means "unset", Mesa printed "Failed to create  for shader
+    // cache" and the tool's stderr was no longer clean. Both spellings of a fresh cache must be quiet.
+    const std::string home = (dir_ / "home").string();
+    fs::create_directories(home);
+    for (const std::vector<std::string>& env :
+         {std::vector<std::string>{"HOME=" + home, "XDG_CACHE_HOME="}, {"HOME=" + home, "XDG_CACHE_HOME=relative/dir"}}) {
+        std::vector<std::string> args = kSpecArgs;
+        args.insert(args.end(), {"--device", "gpu"});
+        const ToolRun gpu = runTool(args, env);
+        if (gpu.status != 0) failOrSkipWithoutDevice(gpu);
+        if (HasFailure() || IsSkipped()) return;
+        EXPECT_TRUE(gpu.err.empty()) << env[1] << "\n" << describe(gpu);
+    }
+}
+
+TEST_F(CliTest, RequestsTooLargeForMemorySayHowLarge)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    GTEST_SKIP() << "SKIPPED under AddressSanitizer: it needs more address space than the limit this test sets";
+#else
+    // Regression (issue 8): an in-range request that cannot be allocated ended in an uncaught
+    // std::bad_alloc. 2^24 points x 64 dims is 4 GiB of float32: under a 1 GiB address-space limit
+    // the tool must say how much it asked for, exit non-zero, and write nothing.
+    const std::string out = (dir_ / "points.csv").string(), err = (dir_ / "err.txt").string();
+    const std::string command = "ulimit -v 1048576; exec " + std::string(OAS_SAMPLES_EXE) +
+                                " --sampler random --spp 16777216 --dims 64 -o '" + out + "' 2>'" + err + "' >/dev/null";
+    const int status = std::system(command.c_str());
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 1);
+    std::ifstream in(err);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(text.find("out of memory for --spp 16777216 x --dims 64 = 1073741824 values (4.0 GiB"), std::string::npos)
+        << text;
+    EXPECT_FALSE(fs::exists(out));
+#endif
+}
+
 TEST_F(CliTest, GpuOutputIsByteIdenticalToCpu)
 {
     const std::vector<std::vector<std::string>> cases = {
@@ -318,17 +381,8 @@ TEST_F(CliTest, GpuOutputIsByteIdenticalToCpu)
         const ToolRun cpu = runTool(cpuArgs);
         ASSERT_EQ(cpu.status, 0) << describe(cpu);
         const ToolRun gpu = runTool(gpuArgs);
-        if (gpu.status != 0) {
-            // The tool reports a missing device through vk::NoDeviceError's messages, exit status 1.
-            const bool noDevice = gpu.status == 1 && (gpu.err.find("no usable Vulkan driver") != std::string::npos ||
-                                                      gpu.err.find("no Vulkan physical devices") != std::string::npos ||
-                                                      gpu.err.find("no Vulkan 1.1 device") != std::string::npos ||
-                                                      gpu.err.find("Vulkan loader is") != std::string::npos);
-            const char* require = std::getenv("OAS_REQUIRE_GPU");
-            const bool required = require && std::string(require) == "1";
-            if (noDevice && !required) GTEST_SKIP() << "SKIPPED: no Vulkan device: " << gpu.err;
-            FAIL() << (noDevice ? "no Vulkan device and OAS_REQUIRE_GPU=1\n" : "GPU run failed\n") << describe(gpu);
-        }
+        if (gpu.status != 0) failOrSkipWithoutDevice(gpu);
+        if (HasFailure() || IsSkipped()) return;
         EXPECT_TRUE(gpu.err.empty()) << describe(gpu);
         EXPECT_EQ(gpu.out.size(), cpu.out.size()) << gpu.command;
         EXPECT_TRUE(gpu.out == cpu.out) << "GPU and CPU output differ for " << gpu.command;

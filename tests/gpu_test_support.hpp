@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "vk/context.hpp"
 
@@ -16,6 +17,7 @@ namespace oas::test {
 struct GpuState {
     std::unique_ptr<vk::Context> context;
     std::string error;
+    std::vector<std::string> creationMessages;  ///< findings while the context was made
 };
 
 inline GpuState& gpuState()
@@ -28,6 +30,7 @@ inline GpuState& gpuState()
         options.requireValidation = true;
         try {
             s.context = std::make_unique<vk::Context>(options);
+            s.creationMessages = s.context->validationMessages();
         } catch (const vk::NoDeviceError& e) {
             s.error = e.what();
         }
@@ -47,6 +50,8 @@ protected:
             if (require && std::string(require) == "1") FAIL() << "no Vulkan device and OAS_REQUIRE_GPU=1: " << s.error;
             GTEST_SKIP() << "SKIPPED: no Vulkan device: " << s.error;
         }
+        // Context creation is checked too (every test reports it, since any one may run alone).
+        for (const auto& m : s.creationMessages) ADD_FAILURE() << "Vulkan validation at context creation: " << m;
         s.context->clearValidationMessages();
     }
     void TearDown() override

@@ -35,6 +35,7 @@
 
 #include "image/image.hpp"
 #include "image/metrics.hpp"
+#include "oas/atomic_file.hpp"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
@@ -257,6 +258,40 @@ TEST(Exr, ReadErrorsNameTheFile)
         EXPECT_NE(what.find("R, G, B"), std::string::npos) << what;
         EXPECT_NE(what.find("Y"), std::string::npos) << what;
     }
+}
+
+/// The pid of a process that has exited (and been reaped): no process has it for a while.
+pid_t deadPid()
+{
+    const pid_t pid = ::fork();
+    if (pid == 0) ::_exit(0);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+    return pid;
+}
+
+TEST(AtomicFile, StaleTemporariesOfDeadProcessesAreRemoved)
+{
+    // Regression (issue 8): a kill during a write left "x.exr.tmp.<pid>.0" / "x.png.tmp.<pid>"
+    // behind for good. The next write of the same path removes those of processes that are gone;
+    // a live process's file (it may be writing right now) and files not of our naming stay.
+    TempDir dir;
+    const std::string dead = std::to_string(deadPid()), live = std::to_string(::getppid());
+    const std::vector<std::string> stale = {"x.exr.tmp." + dead + ".0", "x.exr.tmp." + dead + ".17",
+                                            "x.png.tmp." + dead};
+    const std::vector<std::string> kept = {"x.exr.tmp." + live + ".0", "x.exr.tmp.abc", "x.exr.tmp." + dead + ".x",
+                                           "y.exr.tmp." + dead + ".0", "x.exr.tmpl." + dead, "notes.txt"};
+    for (const auto& name : stale) std::ofstream(dir / name) << "partial";
+    for (const auto& name : kept) std::ofstream(dir / name) << "keep";
+    oas::image::writeExr(dir / "x.exr", Image(2, 2, 0.5f, 0.5f, 0.5f), {});
+    oas::image::writePngPreview(dir / "x.png", Image(2, 2, 0.5f, 0.5f, 0.5f));
+    std::vector<std::string> expected = kept;
+    expected.insert(expected.end(), {"x.exr", "x.png"});
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(dir.entries(), expected);
+    EXPECT_EQ(oas::removeStaleTemporaries(dir / "y.exr"), 1u);
+    EXPECT_EQ(oas::removeStaleTemporaries(dir / "y.exr"), 0u);
+    EXPECT_EQ(oas::removeStaleTemporaries(dir / "missing-dir/z.exr"), 0u);
 }
 
 TEST(Exr, FailedWriteLeavesNothingAndNamesThePath)
@@ -713,6 +748,26 @@ TEST(OasDiff, BadInputExitsWithStatus2)
         EXPECT_TRUE(r.out.empty()) << describe(r);
         EXPECT_NE(r.err.find(c.mention), std::string::npos) << "expected '" << c.mention << "'\n" << describe(r);
     }
+
+    // Regression (issue 8): a NaN pixel made oas-diff print "nan" and exit 0. Now: status 2, the
+    // file and the pixels named. Infinities too, in either image.
+    Image withNan(4, 3, 1, 1, 1), withInf(4, 3, 0, 0, 0);
+    withNan.pixel(2, 1)[1] = std::numeric_limits<float>::quiet_NaN();
+    withNan.pixel(3, 2)[0] = std::numeric_limits<float>::quiet_NaN();
+    withInf.pixel(0, 2)[2] = -std::numeric_limits<float>::infinity();
+    const std::string nanPath = dir / "nan.exr", infPath = dir / "inf.exr";
+    oas::image::writeExr(nanPath, withNan, {});
+    oas::image::writeExr(infPath, withInf, {});
+    for (const auto& [args, mention] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+             {{nanPath, b}, nanPath + ": 2 pixels hold NaN or infinite values, first at (2, 1)"},
+             {{a, infPath}, infPath + ": 1 pixel holds NaN or infinite values, first at (0, 2) = [0, 0, -inf]"}}) {
+        const ToolRun r = runDiff(dir, args);
+        EXPECT_EQ(r.status, 2) << describe(r);
+        EXPECT_TRUE(r.out.empty()) << describe(r);
+        EXPECT_NE(r.err.find(mention), std::string::npos) << "expected '" << mention << "'\n" << describe(r);
+    }
+    fs::remove(nanPath);
+    fs::remove(infPath);
 
     // An error PNG that cannot be written: status 1, the path named, nothing left behind.
     const std::string badPng = dir / "no/dir/err.png";

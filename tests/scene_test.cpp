@@ -13,6 +13,7 @@
 #include <string>
 #include <unistd.h>
 
+#include <fmt/format.h>
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
@@ -695,6 +696,98 @@ TEST(BadScenes, RandomCorruptionsOnlyEverThrowSceneError)
     }
     EXPECT_GT(refused, 1000);
     EXPECT_GT(loaded, 0);
+}
+
+TEST(BadScenes, DeepNestingIsRefusedWithoutCrashing)
+{
+    // Regression (issue 8): ~65,600 levels of nesting (a 131 KB file) segfaulted the Release build
+    // in the type-error path, which dump()ed the whole bad value recursively (5,000 levels under
+    // ASan), and building the error path cost time quadratic in the depth.
+    for (const std::size_t depth : {65u, 5000u, 70000u}) {
+        const std::string arrays = std::string(depth, '[') + std::string(depth, ']');
+        std::string objects;
+        for (std::size_t i = 0; i < depth; ++i) objects += "{\"a\":";
+        objects += "1" + std::string(depth, '}');
+        for (const std::string& deep : {arrays, objects}) {
+            for (const char* field : {"resolution", "camera", "comment", "unknownKey"}) {
+                const std::string text = std::string("{\"") + field + "\": " + deep + "}";
+                const std::string msg = errorOf([&] { parseScene(text, "deep.json", kScenes); });
+                EXPECT_TRUE(contains(msg, "deep.json: ")) << msg.substr(0, 300);
+                EXPECT_TRUE(contains(msg, "nested deeper than 64 levels")) << field << " " << depth << ": " << msg.substr(0, 300);
+                EXPECT_LT(msg.size(), 1000u) << msg.substr(0, 300);
+            }
+        }
+    }
+    // Just inside the limit the value reaches the loader, whose message shows it abbreviated.
+    const std::string inside = "{\"resolution\": " + std::string(60, '[') + std::string(60, ']') + "}";
+    const std::string msg = errorOf([&] { parseScene(inside, "deep.json", kScenes); });
+    EXPECT_TRUE(contains(msg, "deep.json: resolution")) << msg;
+    EXPECT_LT(msg.size(), 400u) << msg;
+}
+
+TEST(BadScenes, HugeValuesAreShownAbbreviated)
+{
+    // A message about a wrong value shows at most ~60 characters of it, whatever its size.
+    std::string big = "[";
+    for (int i = 0; i < 200000; ++i) big += (i ? ",\"" : "\"") + std::string(8, 'x') + "\"";
+    big += "]";
+    for (const char* field : {"name", "camera"}) {
+        json j = baseScene();
+        j.erase(field);
+        std::string text = j.dump();
+        text.insert(1, std::string("\"") + field + "\": " + big + ",");
+        const std::string msg = errorOf([&] { parseScene(text, "big.json", kScenes); });
+        EXPECT_TRUE(contains(msg, std::string("big.json: ") + field)) << msg.substr(0, 300);
+        EXPECT_TRUE(contains(msg, "[\"xxxxxxxx\",")) << msg.substr(0, 300);
+        EXPECT_LT(msg.size(), 400u) << msg.substr(0, 300);
+    }
+}
+
+TEST(BadScenes, QuadsWithParallelEdgesAreRefused)
+{
+    // Regression (issue 8): the zero-area test formed corner + edge in float32, whose rounding
+    // moved exactly parallel edges apart, and a threshold of 1e-12 let 17 of 525 such quads
+    // through; as cornell7d's light one darkened the image by 24% without a word. Edges here are
+    // exactly parallel as decimals (edgeV = k * edgeU with short decimals), corners far from 0.
+    std::uint64_t state = 0x2545F4914F6CDD1Dull;
+    auto next = [&](std::int64_t lo, std::int64_t hi) {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return lo + std::int64_t((state >> 33) % std::uint64_t(hi - lo + 1));
+    };
+    int refused = 0;
+    const int cases = 600;
+    for (int i = 0; i < cases; ++i) {
+        std::int64_t u[3];
+        do {
+            for (auto& c : u) c = next(-5000, 5000);  // edgeU = u / 1000
+        } while (u[0] == 0 && u[1] == 0 && u[2] == 0);
+        std::int64_t k = 0;
+        while (k == 0) k = next(-40, 40);  // edgeV = (k / 10) * edgeU, exactly, as decimals
+        const auto dec = [](std::int64_t v, int places) {
+            const std::string sign = v < 0 ? "-" : "";
+            const std::int64_t a = v < 0 ? -v : v, p = places == 3 ? 1000 : 10000;
+            return fmt::format("{}{}.{:0{}}", sign, a / p, a % p, places);
+        };
+        const std::string quad = fmt::format(
+            R"({{"type": "quad", "material": "lamp", "corner": [{}, {}, {}], "edgeU": [{}, {}, {}], "edgeV": [{}, {}, {}]}})",
+            dec(next(-99999, 99999), 3), dec(next(-99999, 99999), 3), dec(next(-99999, 99999), 3), dec(u[0], 3),
+            dec(u[1], 3), dec(u[2], 3), dec(u[0] * k, 4), dec(u[1] * k, 4), dec(u[2] * k, 4));
+        json j = baseScene();
+        j["shapes"][1] = json::parse(quad);
+        const std::string msg = errorOf([&] { parseScene(j.dump(), "flat.json", kScenes); });
+        if (contains(msg, "zero-area area light"))
+            ++refused;
+        else
+            ADD_FAILURE() << "accepted or wrong message: " << quad << "\n" << msg;
+    }
+    EXPECT_EQ(refused, cases);
+    // The positive control: thin but clearly two-dimensional quads still load.
+    for (const char* edgeV : {"[0.002, 0, 1]", "[1, 0, 0.001]", "[0.001, 1, 0]"}) {
+        json j = baseScene();
+        j["shapes"][1]["edgeU"] = {1, 0, 0};
+        j["shapes"][1]["edgeV"] = json::parse(edgeV);
+        EXPECT_EQ(errorOf([&] { parseScene(j.dump(), "thin.json", kScenes); }), "NO EXCEPTION") << edgeV;
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -4,7 +4,10 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "vk/context.hpp"
@@ -31,6 +34,17 @@ std::unique_ptr<Context> makeValidatedContext() {
   } catch (const oas::vk::NoDeviceError& e) {                           \
     GTEST_SKIP() << "SKIPPED: no Vulkan device: " << e.what();          \
   }
+
+/// Creates a buffer and the smoke pipeline, dispatches 64 elements, destroys both; returns the
+/// last element (3 * 63 + 1 when the dispatch ran).
+uint32_t dispatchSmall(Context& ctx) {
+  Buffer buf(ctx, 64 * sizeof(uint32_t));
+  ComputePipeline pipe(ctx, vk_smoke_spv, sizeof(vk_smoke_spv), 1, 8);
+  const uint32_t push[2] = {64, 1};
+  Buffer* bufs[] = {&buf};
+  ctx.dispatch(pipe, bufs, push, sizeof(push), 1);
+  return static_cast<uint32_t*>(buf.data())[63];
+}
 
 TEST(VkSmoke, DispatchWritesEveryElement) {
   OAS_MAKE_CONTEXT_OR_SKIP(ctx);
@@ -62,16 +76,47 @@ TEST(VkSmoke, DispatchWritesEveryElement) {
 
 TEST(VkSmoke, ValidationLogIsEmptyAfterFullLifecycle) {
   OAS_MAKE_CONTEXT_OR_SKIP(ctx);
-  {
-    Buffer buf(*ctx, 64 * sizeof(uint32_t));
-    ComputePipeline pipe(*ctx, vk_smoke_spv, sizeof(vk_smoke_spv), 1, 8);
-    const uint32_t push[2] = {64, 1};
-    Buffer* bufs[] = {&buf};
-    ctx->dispatch(pipe, bufs, push, sizeof(push), 1);
-    EXPECT_EQ(static_cast<uint32_t*>(buf.data())[63], 63u * 3u + 1u);
-  }
+  EXPECT_EQ(dispatchSmall(*ctx), 63u * 3u + 1u);
   EXPECT_TRUE(ctx->validationMessages().empty());
   EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
+}
+
+/// Sets an environment variable (or unsets it, for nullopt) for one scope.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, std::optional<std::string> value) : name_(name) {
+    if (const char* old = std::getenv(name)) old_ = old;
+    if (value) ::setenv(name, value->c_str(), 1);
+    else ::unsetenv(name);
+  }
+  ~ScopedEnv() {
+    if (old_) ::setenv(name_, old_->c_str(), 1);
+    else ::unsetenv(name_);
+  }
+ private:
+  const char* name_;
+  std::optional<std::string> old_;
+};
+
+// Regression (issue 8): on a machine whose HOME has no ~/.cache yet the layer reported, at info
+// severity, that it could not open its shader validation cache, and every GPU test failed there
+// while passing on machines that had run the tests before. A fresh HOME must give no finding, and
+// the layer must not keep a cache file in the user's HOME for us.
+TEST(VkSmoke, FreshHomeGivesNoValidationMessages) {
+  namespace fs = std::filesystem;
+  std::string dir = (fs::temp_directory_path() / "oas-fresh-home-XXXXXX").string();
+  ASSERT_NE(::mkdtemp(dir.data()), nullptr);
+  {
+    ScopedEnv home("HOME", dir), xdg("XDG_CACHE_HOME", std::nullopt);
+    OAS_MAKE_CONTEXT_OR_SKIP(ctx);
+    EXPECT_EQ(dispatchSmall(*ctx), 63u * 3u + 1u);
+    EXPECT_TRUE(ctx->validationMessages().empty());
+    EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
+  }
+  for (const auto& entry : fs::recursive_directory_iterator(dir))
+    EXPECT_EQ(entry.path().filename().string().rfind("shader_validation_cache", 0), std::string::npos)
+        << entry.path() << ": the layer wrote its validation cache into HOME";
+  fs::remove_all(dir);
 }
 
 // Proves the messenger really collects: otherwise "no messages" above would prove nothing.

@@ -3,8 +3,9 @@
 // false-colour PNG of the per-pixel relative squared error.
 //
 // Exit status: 0 on success; 2 for bad arguments, unreadable images, or images that cannot be
-// compared (different sizes, crop outside the image), with a message on stderr and nothing on
-// stdout; 1 when the error PNG cannot be written.
+// compared (different sizes, crop outside the image, a NaN or infinite pixel, which would make
+// every metric NaN), with a message on stderr and nothing on stdout; 1 when the error PNG cannot
+// be written.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -55,7 +56,8 @@ int main(int argc, char** argv)
 {
     CLI::App app{"oas-diff: compare an OpenEXR image with a reference (MSE, relMSE, RMSE over RGB)"};
     app.footer("relMSE = mean over pixels and R,G,B of (I - R)^2 / (R^2 + eps).\n"
-               "Exit status: 0 ok, 2 bad arguments or unreadable/incomparable images, 1 error PNG not written.");
+               "Exit status: 0 ok, 2 bad arguments or unreadable/incomparable images (also: NaN or infinite\n"
+               "pixels), 1 error PNG not written.");
     std::string imagePath, referencePath, cropText, errorPng;
     double epsilon = 1e-2;
     app.add_option("IMAGE", imagePath, "the image to measure (OpenEXR)")->required();
@@ -82,6 +84,10 @@ int main(int argc, char** argv)
         if (!cropText.empty()) crop = parseCrop(cropText);
         image = oas::image::readExr(imagePath);
         reference = oas::image::readExr(referencePath);
+        for (const auto& [path, img] : {std::pair{&imagePath, &image}, std::pair{&referencePath, &reference}})
+            if (const auto bad = oas::image::findNonFinite(*img); bad.count > 0)
+                throw UsageError(*path + ": " + oas::image::describeNonFinite(*img, bad) +
+                                 ": valid finite R, G, B in every pixel (the metrics would be NaN)");
         rows.emplace_back(fmt::format("whole {}x{}", image.width, image.height),
                           oas::image::compare(image, reference, std::nullopt, epsilon));
         if (crop)

@@ -1,12 +1,15 @@
 // oas-render: renders a scene (scenes/README.md) with the OA path tracer on the GPU (lavapipe
 // unless you chose a driver) or with the CPU reference tracer, progressively, and writes a float
 // OpenEXR (spp, sampler, time and dimension plan in its header) plus a tone-mapped sRGB PNG.
-// Ctrl-C stops after the current batch and writes the image accumulated so far (its real spp
-// recorded). Outputs are written to temporary files and renamed.
+// Ctrl-C, SIGTERM and SIGHUP stop after the current pass and write the image accumulated so far
+// (its real spp recorded); a second signal ends the process at once. Outputs are written to
+// temporary files and renamed; temporaries left by a killed run are removed by the next write.
 #include <CLI/CLI.hpp>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <csignal>
+#include <new>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -21,8 +24,55 @@
 
 namespace {
 
-std::atomic<bool> gInterrupted{false};
-extern "C" void onInterrupt(int) { gInterrupted = true; }
+/// The signal that asked us to stop (0: none). The first of SIGINT, SIGTERM, SIGHUP stops the
+/// render after the current pass; the handler then restores the default action, so a second one
+/// ends the process at once (the user asked twice).
+volatile std::sig_atomic_t gStopSignal = 0;
+extern "C" void onStopSignal(int sig)
+{
+    gStopSignal = sig;
+    std::signal(sig, SIG_DFL);
+}
+
+void installStopHandlers()
+{
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) {
+        struct sigaction action {};
+        action.sa_handler = onStopSignal;
+        sigemptyset(&action.sa_mask);
+        action.sa_flags = SA_RESTART;
+        ::sigaction(sig, &action, nullptr);
+    }
+}
+
+const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal"; }
+
+/// A file name from a scene's name for the default output out/<name>.exr: characters other than
+/// letters, digits, '-', '_' and '.' become '_' and leading dots are dropped, so the name can
+/// neither leave out/ ("../x", "/abs"), nor hide, nor be cut short by a NUL. Empty: the scene
+/// file's own stem, then "render".
+std::string outputStem(const std::string& sceneName, const std::filesystem::path& sceneFile)
+{
+    auto clean = [](const std::string& text) {
+        std::string out;
+        for (unsigned char c : text)
+            out += (std::isalnum(c) || c == '-' || c == '_' || c == '.') ? char(c) : '_';
+        out.erase(0, out.find_first_not_of('.'));
+        if (out.size() > 200) out.resize(200);
+        return out;
+    };
+    for (const std::string& candidate : {clean(sceneName), clean(sceneFile.stem().string())})
+        if (!candidate.empty()) return candidate;
+    return "render";
+}
+
+/// Whether `path` ends in ".exr" (any case).
+bool hasExrExtension(const std::string& path)
+{
+    std::string ext = std::filesystem::path(path).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".exr";
+}
 
 /// Progress on a terminal as one rewritten line; otherwise plain lines at every 10%.
 class Progress {
@@ -105,11 +155,25 @@ int main(int argc, char** argv)
                       << "dimension plan: " << plan.explain() << "sampler: " << choice << "\n";
             return 0;
         }
-        if (output.empty()) output = "out/" + scene.name + ".exr";
+        // The EXR and its PNG preview differ only in the extension, so the EXR's must be .exr:
+        // "-o x.png" would otherwise write the preview over the image.
+        if (output.empty()) output = "out/" + outputStem(scene.name, scene.path) + ".exr";
+        if (!hasExrExtension(output) || std::filesystem::path(output).stem().empty())
+            throw oas::InvalidArgument("--output " + output + ": the output is an OpenEXR image with its PNG preview "
+                                       "beside it: valid a file name ending in .exr (e.g. out/render.exr)");
+        if (std::filesystem::is_directory(output))
+            throw oas::InvalidArgument("--output " + output + " is a directory: valid a file name ending in .exr");
         if (const auto parent = std::filesystem::path(output).parent_path(); !parent.empty())
             std::filesystem::create_directories(parent);
         const std::string png = std::filesystem::path(output).replace_extension(".png").string();
 
+        const std::uint64_t imageBytes = std::uint64_t(scene.width) * scene.height * 4 * sizeof(float);
+        const auto outOfMemory = [&](const char* what) {
+            return std::runtime_error(
+                "cannot allocate " + std::string(what) + " for a " + std::to_string(scene.width) + "x" +
+                std::to_string(scene.height) + " image (" + std::to_string(imageBytes >> 20) +
+                " MiB per float RGBA copy): valid a resolution this machine can hold");
+        };
         const oas::render::SceneData data = oas::render::flattenScene(scene);
         std::unique_ptr<oas::vk::Context> context;
         std::unique_ptr<oas::render::GpuTracer> gpu;
@@ -123,8 +187,14 @@ int main(int argc, char** argv)
         std::cerr << "rendering " << scene.name << " (" << scene.width << "x" << scene.height << ", "
                   << scene.sampler.spp << " spp, " << plan.usedDims << "D) on " << where << "\n"
                   << "sampler: " << choice << "\n";
-        std::signal(SIGINT, onInterrupt);
-        std::vector<float> cpuAccumulation(std::size_t(scene.width) * scene.height * 4, 0.0f);
+        installStopHandlers();
+        std::vector<float> cpuAccumulation;
+        try {
+            if (!gpu) cpuAccumulation.assign(std::size_t(scene.width) * scene.height * 4, 0.0f);
+        } catch (const std::bad_alloc&) {
+            throw outOfMemory("the accumulation buffer");
+        }
+        std::uint64_t nonFinite = 0;
         Progress progress(scene.sampler.spp);
         const auto start = std::chrono::steady_clock::now();
         const std::uint32_t done = oas::render::forEachBatch(
@@ -133,26 +203,25 @@ int main(int argc, char** argv)
                 if (gpu)
                     gpu->trace(batch);
                 else
-                    oas::render::traceCpu(data, plan, pattern, batch, cpuAccumulation);
+                    nonFinite += oas::render::traceCpu(data, plan, pattern, batch, cpuAccumulation);
             },
-            [&](std::uint32_t samplesDone) {  // Ctrl-C is honoured between passes
+            [&](std::uint32_t samplesDone) {  // stop signals are honoured between passes
                 progress.update(samplesDone,
                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-                return !gInterrupted;
+                return gStopSignal == 0;
             });
+        const int stopSignal = gStopSignal;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (gInterrupted) std::cerr << "\ninterrupted: writing the " << done << " spp accumulated so far\n";
-        const std::vector<float> accumulation = gpu ? gpu->accumulation() : cpuAccumulation;
+        if (stopSignal)
+            std::cerr << "\ninterrupted by " << signalName(stopSignal) << ": writing the " << done
+                      << " spp accumulated so far\n";
+        if (gpu) nonFinite = gpu->nonFiniteSamples();
         oas::image::Image image;
-        image.width = scene.width;
-        image.height = scene.height;
-        image.rgba.resize(accumulation.size());
-        for (std::size_t i = 0; i < accumulation.size(); i += 4) {
-            const float n = std::max(accumulation[i + 3], 1.0f);
-            image.rgba[i] = accumulation[i] / n;
-            image.rgba[i + 1] = accumulation[i + 1] / n;
-            image.rgba[i + 2] = accumulation[i + 2] / n;
-            image.rgba[i + 3] = 1.0f;
+        try {
+            image = oas::image::imageFromAccumulation(gpu ? gpu->accumulation() : cpuAccumulation, scene.width,
+                                                      scene.height);
+        } catch (const std::bad_alloc&) {
+            throw outOfMemory("the output image");
         }
         std::string planLine = plan.explain();
         planLine = planLine.substr(0, planLine.find('\n'));
@@ -163,18 +232,29 @@ int main(int argc, char** argv)
                               {"oas.renderTimeSeconds", std::to_string(seconds)},
                               {"oas.dimensionPlan", planLine},
                               {"oas.device", where},
+                              {"oas.nonFiniteSamples", std::to_string(nonFinite)},
                               {"oas.scene", scene.path.string()}});
         oas::image::writePngPreview(png, image);
         const double paths = double(scene.width) * scene.height * done;
-        std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s\nwrote %s and %s\n", scene.name.c_str(), done, seconds,
-                    paths / seconds / 1e6, where.c_str(), output.c_str(), png.c_str());
-        return gInterrupted ? 130 : 0;
+        std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s\n", scene.name.c_str(), done, seconds,
+                    paths / seconds / 1e6, where.c_str());
+        if (nonFinite)
+            std::printf("warning: %llu of %.0f samples had a NaN or infinite radiance and were left out of the "
+                        "pixel sums (oas.nonFiniteSamples in the EXR header)\n",
+                        static_cast<unsigned long long>(nonFinite), paths);
+        else
+            std::printf("non-finite samples: 0\n");
+        std::printf("wrote %s and %s\n", output.c_str(), png.c_str());
+        return stopSignal ? 128 + stopSignal : 0;
     } catch (const oas::scene::SceneError& e) {
         std::cerr << "oas-render: error: " << e.what() << "\n";
         return 2;
     } catch (const oas::InvalidArgument& e) {
         std::cerr << "oas-render: error: " << e.what() << "\n";
         return 2;
+    } catch (const std::bad_alloc&) {
+        std::cerr << "oas-render: error: out of memory (a smaller resolution or scene needs less)\n";
+        return 1;
     } catch (const std::exception& e) {
         std::cerr << "oas-render: error: " << e.what() << "\n";
         return 1;

@@ -1,6 +1,7 @@
 // oas-samples: print one pixel's point set of any sampler, so people can look at and check a
 // pattern. Values are printed with 9 significant digits, which round-trips every float32 exactly.
 #include <CLI/CLI.hpp>
+#include <new>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
@@ -163,6 +164,15 @@ int main(int argc, char** argv)
     } catch (const oas::InvalidArgument& e) {
         std::cerr << "oas-samples: error: " << e.what() << "\n";
         return 2;
+    } catch (const std::bad_alloc&) {
+        // In range, but more than this machine can hold: say how much was asked for.
+        const double values = double(request.spp) * request.dims;
+        std::fprintf(stderr,
+                     "oas-samples: error: out of memory for --spp %u x --dims %u = %.0f values (%.1f GiB as float32, "
+                     "about %.0f GiB as %s text): valid fewer samples or dimensions per call\n",
+                     request.spp, request.dims, values, values * 4 / 1073741824.0,
+                     values * (format == "npy" ? 4 : 13) / 1073741824.0, format.c_str());
+        return 1;
     } catch (const std::exception& e) {
         std::cerr << "oas-samples: error: " << e.what() << "\n";
         return 1;

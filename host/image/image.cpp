@@ -1,5 +1,6 @@
 // OpenEXR reading and writing (OpenEXR's C++ API) for oas::image::Image.
 #include "image/image.hpp"
+#include "oas/atomic_file.hpp"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -14,6 +15,7 @@
 #include <climits>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <stdexcept>
 
 #include <fcntl.h>
@@ -87,12 +89,6 @@ bool isReservedAttribute(const Imf::Header& header, const std::string& name)
     return false;
 }
 
-std::string temporaryPathFor(const std::string& path)
-{
-    static std::atomic<unsigned> counter{0};
-    return path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter.fetch_add(1));
-}
-
 }  // namespace
 
 void writeExr(const std::string& path, const Image& image, const std::map<std::string, std::string>& headerAttributes)
@@ -121,7 +117,8 @@ void writeExr(const std::string& path, const Image& image, const std::map<std::s
         frameBuffer.insert(names[c],
                            Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, header.dataWindow(), xStride, yStride));
 
-    const std::string tmp = temporaryPathFor(path);
+    oas::removeStaleTemporaries(path);
+    const std::string tmp = oas::temporaryPathFor(path);
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0)
         throw std::runtime_error("cannot write '" + path + "' (open '" + tmp + "'): " + std::strerror(errno));
@@ -199,6 +196,23 @@ Image readExr(const std::string& path, std::map<std::string, std::string>* attri
     } catch (const std::exception& e) {
         throw std::runtime_error("cannot read EXR '" + path + "': " + e.what());
     }
+}
+
+Image imageFromAccumulation(const std::vector<float>& accumulation, std::uint32_t width, std::uint32_t height)
+{
+    if (accumulation.size() != std::size_t(width) * height * 4)
+        throw std::invalid_argument("imageFromAccumulation: " + std::to_string(accumulation.size()) +
+                                    " floats for a " + std::to_string(width) + "x" + std::to_string(height) + " image");
+    Image image;
+    image.width = width;
+    image.height = height;
+    image.rgba.resize(accumulation.size());
+    for (std::size_t i = 0; i < accumulation.size(); i += 4) {
+        const float n = std::max(accumulation[i + 3], 1.0f);
+        for (int c = 0; c < 3; ++c) image.rgba[i + c] = accumulation[i + c] / n;
+        image.rgba[i + 3] = 1.0f;
+    }
+    return image;
 }
 
 }  // namespace oas::image

@@ -45,6 +45,10 @@ void writeExr(const std::string& path, const Image& image,
 /// of a multi-part file; scanline or tiled); half, float and uint channels are converted to float.
 /// When `attributes` is given it receives every string attribute of the header. Throws
 /// std::runtime_error naming `path` when the file cannot be opened or read or lacks R, G or B.
+/// The image of a radiance accumulation (width * height vec4: rgb sums, a = samples taken): the
+/// per-pixel mean, alpha 1; pixels with no samples stay black.
+Image imageFromAccumulation(const std::vector<float>& accumulation, std::uint32_t width, std::uint32_t height);
+
 Image readExr(const std::string& path, std::map<std::string, std::string>* attributes = nullptr);
 
 /// The 8-bit sRGB value of a linear value: clamp(v * 2^exposure, 0, 1), the sRGB OETF

@@ -1,5 +1,7 @@
 #include "image/metrics.hpp"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -46,6 +48,33 @@ inline PixelError pixelError(const float* i, const float* r, double eps)
 }
 
 }  // namespace
+
+NonFinitePixels findNonFinite(const Image& image, std::size_t keep)
+{
+    checkLayout(image);
+    NonFinitePixels bad;
+    for (std::uint32_t y = 0; y < image.height; ++y)
+        for (std::uint32_t x = 0; x < image.width; ++x) {
+            const float* p = &image.rgba[(std::size_t(y) * image.width + x) * 4];
+            if (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) continue;
+            if (bad.first.size() < keep) bad.first.push_back({x, y});
+            ++bad.count;
+        }
+    return bad;
+}
+
+std::string describeNonFinite(const Image& image, const NonFinitePixels& bad)
+{
+    std::string text = std::to_string(bad.count) + (bad.count == 1 ? " pixel holds" : " pixels hold") +
+                       " NaN or infinite values, first at";
+    for (const auto& [x, y] : bad.first) {
+        const float* p = &image.rgba[(std::size_t(y) * image.width + x) * 4];
+        char rgb[96];
+        std::snprintf(rgb, sizeof rgb, " (%u, %u) = [%g, %g, %g]", x, y, p[0], p[1], p[2]);
+        text += rgb;
+    }
+    return text;
+}
 
 ErrorMetrics compare(const Image& image, const Image& reference, std::optional<Crop> crop, double relEpsilon)
 {

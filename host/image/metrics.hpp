@@ -12,6 +12,8 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "image/image.hpp"
 
@@ -26,6 +28,15 @@ struct ErrorMetrics {
     double mse = 0, relMse = 0, rmse = 0;
     std::uint64_t pixels = 0;  ///< pixels compared (each contributes 3 channel terms)
 };
+
+/// Pixels whose R, G or B is NaN or infinite: how many, and the first few (x, y) in scan order.
+struct NonFinitePixels {
+    std::uint64_t count = 0;
+    std::vector<std::array<std::uint32_t, 2>> first;
+};
+NonFinitePixels findNonFinite(const Image& image, std::size_t keep = 5);
+/// "3 pixels hold NaN or infinite values, first at (1, 2) (4, 0) ...": for messages.
+std::string describeNonFinite(const Image& image, const NonFinitePixels& bad);
 
 /// Compares `image` with `reference` over the whole image or `crop`. Throws std::invalid_argument
 /// naming the sizes when the images differ in size or are empty, when the crop is empty or not

@@ -36,13 +36,21 @@ std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint3
                            std::uint32_t seed, const std::function<void(const SampleBatch&)>& trace,
                            const std::function<bool(std::uint32_t)>& afterPass = {});
 
-/// The CPU reference: `threads` workers (0: all).
-void traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, const SampleBatch& batch,
-              std::vector<float>& accumulation, unsigned threads = 0);
+/// The CPU reference: `threads` workers (0: all). Returns the number of samples whose radiance
+/// was not finite; those are left out of the sums (but counted in a), as on the GPU.
+std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,
+                       const SampleBatch& batch, std::vector<float>& accumulation, unsigned threads = 0);
 
 /// One sample's radiance on the CPU (tests: compare single samples).
 glm::vec3 radianceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, std::uint32_t px,
                       std::uint32_t py, std::uint32_t seed, std::uint32_t sampleIndex);
+
+/// One next-event estimate (a light sample, MIS-weighted when the plan has MIS) at the surface
+/// point x with shading normal n (facing wo) and material `material`, at path vertex `vertex`:
+/// what pt_radiance adds there. For tests of the estimator's edge cases.
+glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, std::uint32_t seed,
+                       std::uint32_t sampleIndex, std::uint32_t vertex, std::uint32_t material, glm::vec3 x,
+                       glm::vec3 n, glm::vec3 wo, float time = 0.0f);
 
 class GpuTracer {
 public:
@@ -52,6 +60,9 @@ public:
     void trace(const SampleBatch& batch);
     /// The accumulation buffer (width * height vec4 of the image).
     std::vector<float> accumulation() const;
+    /// Samples whose radiance was not finite (NaN or inf) since the last clear(): left out of the
+    /// sums, counted here so that a render can report them (our scenes have none).
+    std::uint64_t nonFiniteSamples() const;
     void clear();
     /// Whether `pattern` runs on this tracer's pipeline (same construction, offset and field kind:
     /// the specialization constants); other pattern fields are push constants.

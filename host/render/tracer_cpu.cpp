@@ -59,26 +59,53 @@ OasPattern pt_pattern() { return tContext->pattern; }
 
 }  // namespace
 
+namespace {
+/// Binds a CpuContext to this thread for one scope (the GLSL's bindings read it).
+class BoundContext {
+public:
+    BoundContext(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern)
+        : context_{&data, &plan, glsl::toGlsl(pattern)}
+    {
+        tContext = &context_;
+    }
+    ~BoundContext() { tContext = nullptr; }
+    BoundContext(const BoundContext&) = delete;
+    BoundContext& operator=(const BoundContext&) = delete;
+
+private:
+    CpuContext context_;
+};
+}  // namespace
+
 glm::vec3 radianceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, std::uint32_t px,
                       std::uint32_t py, std::uint32_t seed, std::uint32_t sampleIndex)
 {
-    const CpuContext context{&data, &plan, glsl::toGlsl(pattern)};
-    tContext = &context;
+    const BoundContext bound(data, plan, pattern);
     shared::PtSampleState st;
     st.seed = glsl::oas_pixel_seed(px, py, seed);
     st.index = sampleIndex;
-    const glm::vec3 l = shared::pt_radiance(st, px, py);
-    tContext = nullptr;
-    return l;
+    return shared::pt_radiance(st, px, py);
 }
 
-void traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, const SampleBatch& b,
-              std::vector<float>& accumulation, unsigned threads)
+glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, std::uint32_t seed,
+                       std::uint32_t sampleIndex, std::uint32_t vertex, std::uint32_t material, glm::vec3 x,
+                       glm::vec3 n, glm::vec3 wo, float time)
+{
+    const BoundContext bound(data, plan, pattern);
+    shared::PtSampleState st;
+    st.seed = glsl::oas_pixel_seed(0, 0, seed);
+    st.index = sampleIndex;
+    return shared::pt_next_event(st, vertex, shared::pt_material(material), x, n, wo, time);
+}
+
+std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, const SampleBatch& b,
+                       std::vector<float>& accumulation, unsigned threads)
 {
     const CpuContext context{&data, &plan, glsl::toGlsl(pattern)};
     const auto imageWidth = std::uint32_t(data.globals.image.x);
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     std::atomic<std::uint32_t> nextRow{0};
+    std::atomic<std::uint64_t> nonFinite{0};
     auto work = [&] {
         tContext = &context;
         for (std::uint32_t row; (row = nextRow++) < b.height;) {
@@ -89,7 +116,11 @@ void traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& p
                 glm::vec3 sum(0.0f);
                 for (std::uint32_t i = 0; i < b.count; ++i) {
                     st.index = b.firstSample + i;
-                    sum += shared::pt_radiance(st, px, py);
+                    const glm::vec3 l = shared::pt_radiance(st, px, py);
+                    if (shared::pt_finite(l))
+                        sum += l;
+                    else
+                        ++nonFinite;
                 }
                 float* acc = &accumulation[(std::size_t(py) * imageWidth + px) * 4];
                 acc[0] += sum.x;
@@ -104,6 +135,7 @@ void traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& p
     for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
     work();
     for (auto& t : pool) t.join();
+    return nonFinite.load();
 }
 
 }  // namespace oas::render

@@ -35,7 +35,7 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
         {15, plan.maxDepth}, {16, plan.roulette != kAbsent ? plan.rouletteStart : 0u},
         {20, plan.pixel}, {21, plan.lens}, {22, plan.time}, {23, plan.vertexBase}, {24, plan.vertexStride},
         {25, plan.lightSelect}, {26, plan.lightUV}, {27, plan.bsdfUV}, {28, plan.lobe}, {29, plan.roulette}};
-    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 7,
+    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 8,
                                                       std::uint32_t(sizeof(RenderParams)), spec);
     buffers_.push_back(upload(context_, data.shapes));
     buffers_.push_back(upload(context_, data.materials));
@@ -44,6 +44,7 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     buffers_.push_back(upload(context_, std::vector<pt::PtGlobals>{data.globals}));
     buffers_.push_back(std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * 4 * sizeof(float)));
     buffers_.push_back(upload(context_, sobolDirections()));
+    buffers_.push_back(std::make_unique<vk::Buffer>(context_, sizeof(std::uint32_t)));  // non-finite count
     clear();
 }
 
@@ -51,8 +52,7 @@ GpuTracer::~GpuTracer() = default;
 
 bool GpuTracer::accepts(const Pattern& pattern) const
 {
-    return pattern.construction == pattern_.construction && pattern.offset == pattern_.offset &&
-           oas::fieldKind(pattern) == oas::fieldKind(pattern_);
+    return oas::specializationKey(pattern) == oas::specializationKey(pattern_);
 }
 
 void GpuTracer::setPattern(const Pattern& pattern)
@@ -94,7 +94,18 @@ std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint3
     return done;
 }
 
-void GpuTracer::clear() { std::memset(buffers_[5]->data(), 0, buffers_[5]->size()); }
+void GpuTracer::clear()
+{
+    std::memset(buffers_[5]->data(), 0, buffers_[5]->size());
+    std::memset(buffers_[7]->data(), 0, buffers_[7]->size());
+}
+
+std::uint64_t GpuTracer::nonFiniteSamples() const
+{
+    std::uint32_t n = 0;
+    std::memcpy(&n, buffers_[7]->data(), sizeof n);
+    return n;
+}
 
 void GpuTracer::trace(const SampleBatch& b)
 {

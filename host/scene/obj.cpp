@@ -21,6 +21,10 @@ ObjError::ObjError(std::string file, std::size_t line, const std::string& detail
 
 bool isDegenerateTriangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c)
 {
+    // In double, so the test itself adds no rounding. Thinness = twice the area over the longest
+    // edge squared (height / length). Points that are collinear as decimals are only nearly so once
+    // rounded to float32 (thinness ~1e-7); 1e-5 refuses those and anything thinner, which float32
+    // tracing could not resolve anyway.
     const double e1[3] = {double(b.x) - a.x, double(b.y) - a.y, double(b.z) - a.z};
     const double e2[3] = {double(c.x) - a.x, double(c.y) - a.y, double(c.z) - a.z};
     const double e3[3] = {double(c.x) - b.x, double(c.y) - b.y, double(c.z) - b.z};
@@ -28,7 +32,13 @@ bool isDegenerateTriangle(const glm::vec3& a, const glm::vec3& b, const glm::vec
     const auto len2 = [](const double* v) { return v[0] * v[0] + v[1] * v[1] + v[2] * v[2]; };
     const double longest2 = std::max({len2(e1), len2(e2), len2(e3)});
     const double twiceArea = std::sqrt(len2(n));
-    return !(longest2 > 0) || !(twiceArea > 1e-12 * longest2);
+    return !(longest2 > 0) || !(twiceArea > kMinThinness * longest2);
+}
+
+bool isDegenerateParallelogram(const glm::vec3& edgeU, const glm::vec3& edgeV)
+{
+    // From the edges themselves: corner + edge sums in float32 would round parallel edges apart.
+    return isDegenerateTriangle(glm::vec3(0.0f), edgeU, edgeV);
 }
 
 namespace {

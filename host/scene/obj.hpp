@@ -39,9 +39,17 @@ struct ObjMesh {
     std::size_t degenerateDropped = 0;  ///< zero-area triangles left out of `triangles`
 };
 
+/// Thinness (twice the area over the longest edge squared) at or below which a triangle or a
+/// parallelogram counts as zero-area: well above what float32 rounding leaves of exactly collinear
+/// or parallel decimal input (~1e-7), so such input is refused rather than traced as a sliver.
+constexpr double kMinThinness = 1e-5;
+
 /// True when the triangle has zero area to within rounding: |cross(b - a, c - a)| is at most
-/// 1e-12 times the longest edge squared (computed in double), or all points coincide.
+/// kMinThinness times the longest edge squared (computed in double), or all points coincide.
 bool isDegenerateTriangle(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
+/// The same test for the parallelogram spanned by two edges, computed from the edges (not from
+/// corner + edge sums, which float32 rounds so that parallel edges look slightly apart).
+bool isDegenerateParallelogram(const glm::vec3& edgeU, const glm::vec3& edgeV);
 
 /// Parses OBJ text; nameForMessages is the file name used in errors.
 ObjMesh parseObj(std::string_view text, const std::string& nameForMessages);

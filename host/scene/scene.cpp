@@ -109,12 +109,35 @@ std::string child(const std::string& path, std::string_view key)
 
 std::string element(const std::string& path, std::size_t index) { return fmt::format("{}[{}]", path, index); }
 
+/// Appends a compact rendering of v to out, stopping once out holds more than `limit` characters,
+/// so that a message about a huge or deeply nested value costs O(limit), not O(size) (json::dump
+/// recursed through every level and crashed on deep input; parseJson also caps the depth).
+void abbreviate(const json& v, std::string& out, std::size_t limit)
+{
+    if (out.size() > limit) return;
+    if (v.is_array() || v.is_object()) {
+        out += v.is_array() ? '[' : '{';
+        bool first = true;
+        for (auto it = v.begin(); it != v.end() && out.size() <= limit; ++it) {
+            if (!first) out += ',';
+            first = false;
+            if (v.is_object()) out += json(it.key()).dump() + ':';
+            abbreviate(*it, out, limit);
+        }
+        out += v.is_array() ? ']' : '}';
+        return;
+    }
+    out += v.dump();
+}
+
 /// A JSON value for a message: numbers as numbers, strings quoted, containers abbreviated.
 std::string show(const json& v)
 {
     if (v.is_number_float()) return fmt::format("{}", v.get<double>());
-    std::string text = v.dump();
-    if (text.size() > 60) text = text.substr(0, 57) + "...";
+    constexpr std::size_t kShown = 60;
+    std::string text;
+    abbreviate(v, text, kShown);
+    if (text.size() > kShown) text = text.substr(0, kShown - 3) + "...";
     return text;
 }
 
@@ -182,6 +205,13 @@ struct DuplicateKey {
     std::string path, key;
 };
 
+/// Scene files nest a few levels (shapes[3].center); deeper input is an error, found while parsing,
+/// so nothing downstream (messages, destructors) ever walks an adversarially deep tree.
+constexpr std::size_t kMaxJsonDepth = 64;
+struct TooDeep {
+    std::string path;
+};
+
 json parseJson(const std::string& text, const std::string& file)
 {
     PathTracker tracker;
@@ -192,12 +222,10 @@ json parseJson(const std::string& text, const std::string& file)
         };
         switch (event) {
         case E::object_start:
-            beginElement();
-            tracker.frames.push_back({true, {}, -1, {}});
-            break;
         case E::array_start:
             beginElement();
-            tracker.frames.push_back({false, {}, -1, {}});
+            if (tracker.frames.size() >= kMaxJsonDepth) throw TooDeep{tracker.path()};
+            tracker.frames.push_back({event == E::object_start, {}, -1, {}});
             break;
         case E::object_end:
         case E::array_end:
@@ -219,6 +247,10 @@ json parseJson(const std::string& text, const std::string& file)
     };
     try {
         return json::parse(text, callback, /*allow_exceptions=*/true, /*ignore_comments=*/false);
+    } catch (const TooDeep& d) {
+        throw SceneError(file, d.path,
+                         fmt::format("JSON nested deeper than {} levels: valid at most {} levels of arrays and objects",
+                                     kMaxJsonDepth, kMaxJsonDepth));
     } catch (const DuplicateKey& d) {
         throw SceneError(file, child(d.path, d.key), fmt::format("duplicate key \"{}\": valid each key once per object", d.key));
     } catch (const json::parse_error& e) {
@@ -555,8 +587,7 @@ private:
             if (auto* vel = find(s, "velocity")) shape.velocity = vec3(*vel, child(p, "velocity"));
             const bool light = scene.materials[shape.material].emits();
             const std::string kind = light ? "area light" : "shape";
-            if (shape.type == Shape::Type::Quad &&
-                isDegenerateTriangle(shape.corner, shape.corner + shape.edgeU, shape.corner + shape.edgeV))
+            if (shape.type == Shape::Type::Quad && isDegenerateParallelogram(shape.edgeU, shape.edgeV))
                 fail(child(p, "edgeV"),
                      fmt::format("zero-area {}: edgeU {} and edgeV {} are zero or parallel (area {}): valid "
                                  "non-parallel nonzero edges, area > 0",

@@ -127,7 +127,13 @@ class Context {
   bool broken() const { return broken_; }  // a dispatch timed out or the device was lost
 
   bool validationEnabled() const { return validation_; }
+  // Findings: every warning or error the layers reported (VUIDs, undefined behaviour, performance
+  // warnings). Tests fail on any of these.
   std::vector<std::string> validationMessages() const;
+  // Notes: info-level messages (the layer's status lines, its cache file). The Khronos layer
+  // reports every usage finding at warning or error severity, so these say nothing about our use of
+  // the API; they are kept for diagnosis and printed only with OAS_VK_VERBOSE=1.
+  std::vector<std::string> validationNotes() const;
   void clearValidationMessages();
 
   // Synchronous: returns once the GPU is done and shader writes are visible through
@@ -143,7 +149,8 @@ class Context {
 
   // The log is declared before every handle so it outlives the messenger's last callback.
   mutable std::mutex logMutex_;
-  std::vector<std::string> log_;
+  std::vector<std::string> log_, notes_;
+  bool verbose_ = false;
   bool validation_ = false;
   bool broken_ = false;
   uint64_t timeoutNs_ = 0;

@@ -332,8 +332,23 @@ PtBsdfSample pt_bsdf_sample(PtMaterial m, vec3 ng, vec3 wo, float u1, float u2, 
     return s;
 }
 
-/// Power-heuristic MIS weight of a strategy with pdf a against one with pdf b.
-float pt_mis(float a, float b) { return (a * a) / max(a * a + b * b, 1e-30f); }
+/// Power-heuristic MIS weight a^2 / (a^2 + b^2) of a strategy with pdf a against one with pdf b,
+/// formed from the ratio of the smaller pdf to the larger (at most 1) so that no square overflows:
+/// a grazing light sample's pdf can exceed float's sqrt(max) ~1.8e19, and inf / inf is NaN.
+float pt_mis(float a, float b)
+{
+    if (!(a > 0.0f)) return 0.0f;
+    if (a >= b) {
+        float r = b / a;
+        return 1.0f / (1.0f + r * r);
+    }
+    float r = a / b;
+    return (r * r) / (1.0f + r * r);
+}
+
+/// Whether a path's radiance is finite. The entry points count the samples for which it is not
+/// (and leave them out of the sums) instead of letting one poison a pixel; tests expect none.
+bool pt_finite(vec3 l) { return !(any(isnan(l)) || any(isinf(l))); }
 
 /// Solid-angle pdf of light-sampling the point p (normal nl, area) from x, selection included.
 float pt_light_pdf(vec3 x, vec3 p, vec3 nl, float area, float lightCount)
@@ -396,14 +411,19 @@ vec3 pt_next_event(PtSampleState st, uint v, PtMaterial m, vec3 x, vec3 n, vec3 
         p = (vec3(s.a) * (1.0f - su) + vec3(s.b) * (su * (1.0f - u2)) + vec3(s.c) * (su * u2)) + shift;
     }
     vec3 nl = pt_shape_normal(s, p, time);
-    vec3 toL = p - origin;
-    float dist2 = dot(toL, toL);
-    float dist = sqrt(dist2);
-    vec3 wi = toL / dist;
-    if (dot(nl, -wi) <= 0.0f) return vec3(0.0f);  // emitters light their front side only
+    // Direction, front-facing test and pdf all from the shading point x, the point the estimator
+    // integrates at; the offset origin only starts the shadow ray. (Testing at the origin but taking
+    // the pdf at x let points lying in the light's plane through with a cosine of 0 at x: a clamped
+    // pdf of ~3e30 whose square in the MIS weight was inf / inf = NaN, as in interior_deep.)
+    vec3 toL = p - x;
+    vec3 wi = normalize(toL);
+    if (!(dot(nl, -wi) > 0.0f)) return vec3(0.0f);  // emitters light their front side only
     PtBsdfEval e = pt_bsdf_eval(m, n, wo, wi);
     if (e.pdf <= 0.0f) return vec3(0.0f);
-    if (!pt_visible(origin, wi, time, 0.0f, dist * (1.0f - 1e-4f) - pt_epsilon(p))) return vec3(0.0f);
+    vec3 toShadow = p - origin;
+    float shadowDist = length(toShadow);
+    if (!pt_visible(origin, toShadow / shadowDist, time, 0.0f, shadowDist * (1.0f - 1e-4f) - pt_epsilon(p)))
+        return vec3(0.0f);
     float lightPdf = pt_light_pdf(x, p, nl, s.e.z, lightCount);
     float w = PT_MIS ? pt_mis(lightPdf, e.pdf) : 1.0f;
     return e.fCos * vec3(pt_material(pt_shape_material(s)).emission) * (w / lightPdf);
@@ -480,10 +500,6 @@ vec3 pt_radiance(PtSampleState st, uint px, uint py)
         origin = x + ng * (side * pt_epsilon(x));
         dir = bs.wi;
     }
-    // A path whose contribution is not finite (0/0 or overflow in some degenerate configuration)
-    // is dropped rather than poisoning the pixel's sum for good, as pbrt-v4 does. The study found
-    // one in the 41D interior at 2 x 8192 spp x 3072 px (one in ~5e7 paths); not yet root-caused.
-    if (any(isnan(radiance)) || any(isinf(radiance))) radiance = vec3(0.0f);
     return radiance;
 }
 
