@@ -18,6 +18,7 @@ using Clock = std::chrono::steady_clock;
 struct Result {
     double mpaths;
     std::uint32_t dims;
+    double buildSeconds;  ///< pipeline build (process start to first dispatch is about this)
 };
 
 Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const std::string& sampler, std::uint32_t spp)
@@ -41,7 +42,7 @@ Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const 
         tracer.trace(batch);
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    return {double(scene.width) * scene.height * spp / seconds / 1e6, plan.usedDims};
+    return {double(scene.width) * scene.height * spp / seconds / 1e6, plan.usedDims, tracer.pipelineBuildSeconds()};
 }
 
 }  // namespace
@@ -63,14 +64,15 @@ int main(int argc, char** argv)
         s.width = size;
         return s;
     };
-    std::printf("\n%-18s %5s %6s %12s %12s %10s\n", "scene", "dims", "spp", "OA Mpaths/s", "rnd Mpaths/s", "OA/random");
+    std::printf("\n%-18s %5s %6s %12s %12s %10s %10s %10s\n", "scene", "dims", "spp", "OA Mpaths/s", "rnd Mpaths/s",
+                "OA/random", "OA build", "rnd build");
     for (const auto& [name, spp] : {std::pair{"cornell7d.json", 121u}, {"blue_spheres9d.json", 121u},
                                     {"interior_deep.json", 64u}}) {
         const auto scene = load(name);
         const Result oa = measure(context, scene, "oa", spp);
         const Result rnd = measure(context, scene, "random", spp);
-        std::printf("%-18s %5u %6u %12.3f %12.3f %10.3f\n", scene.name.c_str(), oa.dims, spp, oa.mpaths, rnd.mpaths,
-                    oa.mpaths / rnd.mpaths);
+        std::printf("%-18s %5u %6u %12.3f %12.3f %10.3f %9.2fs %9.2fs\n", scene.name.c_str(), oa.dims, spp, oa.mpaths,
+                    rnd.mpaths, oa.mpaths / rnd.mpaths, oa.buildSeconds, rnd.buildSeconds);
         std::fflush(stdout);
     }
     std::printf("\neffects of cornell7d (OA, 121 spp): speed relative to the full scene\n");

@@ -181,8 +181,11 @@ int main(int argc, char** argv)
         if (device == "gpu") {
             oas::vk::selectLavapipeIfUnset();
             context = std::make_unique<oas::vk::Context>();
-            gpu = std::make_unique<oas::render::GpuTracer>(*context, data, plan, pattern);
             where = context->deviceName();
+            std::cerr << "building the path-tracing pipeline for this plan on " << where
+                      << (context->isLavapipe() ? " (lavapipe compiles it with LLVM: about 20 s)" : "") << "...\n";
+            gpu = std::make_unique<oas::render::GpuTracer>(*context, data, plan, pattern);
+            std::fprintf(stderr, "pipeline built in %.2f s\n", gpu->pipelineBuildSeconds());
         }
         std::cerr << "rendering " << scene.name << " (" << scene.width << "x" << scene.height << ", "
                   << scene.sampler.spp << " spp, " << plan.usedDims << "D) on " << where << "\n"
@@ -233,11 +236,14 @@ int main(int argc, char** argv)
                               {"oas.dimensionPlan", planLine},
                               {"oas.device", where},
                               {"oas.nonFiniteSamples", std::to_string(nonFinite)},
+                              {"oas.pipelineBuildSeconds", gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0"},
                               {"oas.scene", scene.path.string()}});
         oas::image::writePngPreview(png, image);
         const double paths = double(scene.width) * scene.height * done;
-        std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s\n", scene.name.c_str(), done, seconds,
+        std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s", scene.name.c_str(), done, seconds,
                     paths / seconds / 1e6, where.c_str());
+        if (gpu) std::printf(" (pipeline build before it: %.2f s)", gpu->pipelineBuildSeconds());
+        std::printf("\n");
         if (nonFinite)
             std::printf("warning: %llu of %.0f samples had a NaN or infinite radiance and were left out of the "
                         "pixel sums (oas.nonFiniteSamples in the EXR header)\n",

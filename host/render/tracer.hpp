@@ -70,6 +70,9 @@ public:
     /// Switches to another pattern of the same specialization without recompiling (the study
     /// renders many sample counts per sampler). Throws std::invalid_argument otherwise.
     void setPattern(const Pattern& pattern);
+    /// Wall-clock seconds the constructor spent building the compute pipeline (shader compile and
+    /// specialization: on lavapipe most of a short render's time).
+    double pipelineBuildSeconds() const { return pipelineBuildSeconds_; }
 
 private:
     vk::Context& context_;
@@ -77,6 +80,7 @@ private:
     std::uint32_t width_, height_;
     std::unique_ptr<vk::ComputePipeline> pipeline_;
     std::vector<std::unique_ptr<vk::Buffer>> buffers_;
+    double pipelineBuildSeconds_ = 0;
 };
 
 }  // namespace oas::render

@@ -1,3 +1,4 @@
+#include <chrono>
 #include <cstdint>
 #include <algorithm>
 #include <cstring>
@@ -35,8 +36,10 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
         {15, plan.maxDepth}, {16, plan.roulette != kAbsent ? plan.rouletteStart : 0u},
         {20, plan.pixel}, {21, plan.lens}, {22, plan.time}, {23, plan.vertexBase}, {24, plan.vertexStride},
         {25, plan.lightSelect}, {26, plan.lightUV}, {27, plan.bsdfUV}, {28, plan.lobe}, {29, plan.roulette}};
+    const auto buildStart = std::chrono::steady_clock::now();
     pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 8,
                                                       std::uint32_t(sizeof(RenderParams)), spec);
+    pipelineBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
     buffers_.push_back(upload(context_, data.shapes));
     buffers_.push_back(upload(context_, data.materials));
     buffers_.push_back(upload(context_, data.lights));
