@@ -183,7 +183,7 @@ int main(int argc, char** argv)
             context = std::make_unique<oas::vk::Context>();
             where = context->deviceName();
             std::cerr << "building the path-tracing pipeline for this plan on " << where
-                      << (context->isLavapipe() ? " (lavapipe compiles it with LLVM: about 20 s)" : "") << "...\n";
+                      << (context->isLavapipe() ? " (lavapipe compiles it with LLVM: about 2 s)" : "") << "...\n";
             gpu = std::make_unique<oas::render::GpuTracer>(*context, data, plan, pattern);
             std::fprintf(stderr, "pipeline built in %.2f s\n", gpu->pipelineBuildSeconds());
         }

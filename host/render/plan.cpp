@@ -1,5 +1,7 @@
 #include "render/plan.hpp"
 
+#include <stdexcept>
+
 #include <algorithm>
 #include <sstream>
 
@@ -40,6 +42,8 @@ DimensionPlan planDimensions(const scene::Scene& scene)
     if (plan.hasDielectric && bsdfAnywhere) plan.lobe = offset++;
     if (plan.rouletteStart != 0 && plan.rouletteStart < plan.maxDepth) plan.roulette = offset++;
     plan.vertexStride = (offset + 1) & ~1u;
+    if (plan.vertexBase > kMaxGroupDims || plan.vertexStride > kMaxGroupDims)
+        throw std::logic_error("planDimensions: a dimension group exceeds kMaxGroupDims (pt_trace.glsl PT_GROUP_MAX)");
 
     auto add = [&](const std::string& name, std::uint32_t first, std::uint32_t count) {
         plan.entries.push_back({name, first, count});

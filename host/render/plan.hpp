@@ -15,6 +15,9 @@
 namespace oas::render {
 
 constexpr std::uint32_t kAbsent = 0xffffffffu;
+/// Most dimensions of one group (the camera's, or one path vertex's): PT_GROUP_MAX in
+/// shaders/pt/pt_trace.glsl, which fetches a group at a time.
+constexpr std::uint32_t kMaxGroupDims = 8;
 
 struct DimensionPlan {
     struct Entry {

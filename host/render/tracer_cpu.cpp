@@ -56,6 +56,7 @@ OasPattern pt_pattern() { return tContext->pattern; }
 #include "pt/pt_trace.glsl"
 #pragma GCC diagnostic pop
 }  // namespace shared
+static_assert(shared::PT_GROUP_MAX == kMaxGroupDims, "pt_trace.glsl and plan.hpp disagree on the group size");
 
 }  // namespace
 
@@ -95,7 +96,8 @@ glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const P
     shared::PtSampleState st;
     st.seed = glsl::oas_pixel_seed(0, 0, seed);
     st.index = sampleIndex;
-    return shared::pt_next_event(st, vertex, shared::pt_material(material), x, n, wo, time);
+    const shared::PtDims d = shared::pt_group_dims(st, shared::pt_vertex_dim(vertex, 0u), plan.vertexStride);
+    return shared::pt_next_event(d, shared::pt_material(material), x, n, wo, time);
 }
 
 std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, const SampleBatch& b,

@@ -28,6 +28,26 @@ struct PtSampleState {
 /// Dimension `dim` of the current sample, straight from the OA library (no sample buffers).
 float pt_dim(PtSampleState st, uint dim) { return oas_sample(pt_pattern(), st.seed, st.index, dim); }
 
+/// Most dimensions of one group: the camera's (pixel, lens, time: 6 with the alignment gap) or one
+/// path vertex's (light.uv, bsdf.uv, light.select, lobe, roulette: 8 with the gap).
+const uint PT_GROUP_MAX = 8u;
+
+/// The sample dimensions of one group, u[k] = dimension first + k for k < count (0 beyond).
+struct PtDims {
+    float u[PT_GROUP_MAX];
+};
+
+/// Fetches a whole group at once. pt_radiance calls this at one site only: the GPU compiler
+/// inlines the sampler wherever it is called, and with a call per use (a dozen in this file) the
+/// lavapipe pipeline build took ~20 s, against ~0.1 s with the sampler replaced by one hash.
+PtDims pt_group_dims(PtSampleState st, uint first, uint count)
+{
+    PtDims d;
+    for (uint k = 0u; k < PT_GROUP_MAX; ++k) d.u[k] = 0.0f;
+    for (uint k = 0u; k < count; ++k) d.u[k] = pt_dim(st, first + k);
+    return d;
+}
+
 /// First dimension of vertex v's group (v = 1 is the first surface hit).
 uint pt_vertex_dim(uint v, uint offset) { return PT_DIM_VERTEX_BASE + (v - 1u) * PT_DIM_VERTEX_STRIDE + offset; }
 
@@ -364,14 +384,14 @@ float pt_epsilon(vec3 p) { return 1e-4f * (1.0f + max(max(abs(p.x), abs(p.y)), a
 
 /// Next-event estimation at x (normal n facing wo): one light, chosen uniformly with the
 /// light-select dimension, sampled with the light dimensions; MIS against BSDF sampling.
-vec3 pt_next_event(PtSampleState st, uint v, PtMaterial m, vec3 x, vec3 n, vec3 wo, float time)
+vec3 pt_next_event(PtDims d, PtMaterial m, vec3 x, vec3 n, vec3 wo, float time)
 {
     PtGlobals g = pt_globals();
     float lightCount = g.time.z;
     if (lightCount < 1.0f) return vec3(0.0f);
     uint li = 0u;
     if (PT_OFF_LIGHT_SELECT != PT_ABSENT)
-        li = min(uint(pt_dim(st, pt_vertex_dim(v, PT_OFF_LIGHT_SELECT)) * lightCount), uint(lightCount) - 1u);
+        li = min(uint(d.u[PT_OFF_LIGHT_SELECT] * lightCount), uint(lightCount) - 1u);
     PtLight light = pt_light(li);
     float eps = pt_epsilon(x);
     vec3 origin = x + n * eps;
@@ -394,8 +414,8 @@ vec3 pt_next_event(PtSampleState st, uint v, PtMaterial m, vec3 x, vec3 n, vec3 
     if (PT_OFF_LIGHT_UV == PT_ABSENT) return vec3(0.0f);
     uint si = uint(light.intensity.w);
     PtShape s = pt_shape(si);
-    float u1 = pt_dim(st, pt_vertex_dim(v, PT_OFF_LIGHT_UV));
-    float u2 = pt_dim(st, pt_vertex_dim(v, PT_OFF_LIGHT_UV) + 1u);
+    float u1 = d.u[PT_OFF_LIGHT_UV];
+    float u2 = d.u[PT_OFF_LIGHT_UV + 1u];
     vec3 shift = vec3(s.d) * time;
     vec3 p;
     uint type = pt_shape_type(s);
@@ -433,28 +453,38 @@ vec3 pt_next_event(PtSampleState st, uint v, PtMaterial m, vec3 x, vec3 n, vec3 
 vec3 pt_radiance(PtSampleState st, uint px, uint py)
 {
     PtGlobals g = pt_globals();
-    float sx = (float(px) + pt_dim(st, PT_DIM_PIXEL)) / g.image.x * 2.0f - 1.0f;
-    float sy = 1.0f - (float(py) + pt_dim(st, PT_DIM_PIXEL + 1u)) / g.image.y * 2.0f;
-    vec3 forward = vec3(g.cameraForward);
-    vec3 dir = normalize(forward + vec3(g.cameraRight) * (sx * g.cameraRight.w) + vec3(g.cameraUp) * (sy * g.cameraUp.w));
-    vec3 origin = vec3(g.cameraPosition);
-    if (PT_HAS_LENS) {
-        vec3 focus = origin + dir * (g.cameraForward.w / dot(dir, forward));
-        float r = g.cameraPosition.w * sqrt(pt_dim(st, PT_DIM_LENS));
-        float phi = 2.0f * PT_PI * pt_dim(st, PT_DIM_LENS + 1u);
-        origin = origin + vec3(g.cameraRight) * (r * cos(phi)) + vec3(g.cameraUp) * (r * sin(phi));
-        dir = normalize(focus - origin);
-    }
-    float time = g.time.x;
-    if (PT_HAS_MOTION) time = mix(g.time.x, g.time.y, pt_dim(st, PT_DIM_TIME));
     float lightCount = g.time.z;
+    vec3 origin = vec3(g.cameraPosition);
+    vec3 dir = vec3(g.cameraForward);
+    float time = g.time.x;
 
     vec3 radiance = vec3(0.0f);
     vec3 throughput = vec3(1.0f);
     bool lastSpecular = true;  // the camera ray: emitters it hits count fully
     float lastPdf = 0.0f;
     vec3 lastPosition = origin;
-    for (uint v = 1u; v <= PT_MAX_DEPTH + 1u; ++v) {
+    // Group 0 is the camera ray (its dimensions [0, PT_DIM_VERTEX_BASE)), group v >= 1 the path
+    // vertex v; every sample dimension is fetched by the one pt_group_dims call below.
+    for (uint v = 0u; v <= PT_MAX_DEPTH + 1u; ++v) {
+        uint first = v == 0u ? 0u : pt_vertex_dim(v, 0u);
+        uint count = v == 0u ? PT_DIM_VERTEX_BASE : (v > PT_MAX_DEPTH ? 0u : PT_DIM_VERTEX_STRIDE);
+        PtDims d = pt_group_dims(st, first, count);
+        if (v == 0u) {
+            float sx = (float(px) + d.u[PT_DIM_PIXEL]) / g.image.x * 2.0f - 1.0f;
+            float sy = 1.0f - (float(py) + d.u[PT_DIM_PIXEL + 1u]) / g.image.y * 2.0f;
+            vec3 forward = vec3(g.cameraForward);
+            dir = normalize(forward + vec3(g.cameraRight) * (sx * g.cameraRight.w) + vec3(g.cameraUp) * (sy * g.cameraUp.w));
+            if (PT_HAS_LENS) {
+                vec3 focus = origin + dir * (g.cameraForward.w / dot(dir, forward));
+                float r = g.cameraPosition.w * sqrt(d.u[PT_DIM_LENS]);
+                float phi = 2.0f * PT_PI * d.u[PT_DIM_LENS + 1u];
+                origin = origin + vec3(g.cameraRight) * (r * cos(phi)) + vec3(g.cameraUp) * (r * sin(phi));
+                dir = normalize(focus - origin);
+            }
+            if (PT_HAS_MOTION) time = mix(g.time.x, g.time.y, d.u[PT_DIM_TIME]);
+            lastPosition = origin;
+            continue;
+        }
         PtHit hit = pt_trace(origin, dir, time, 0.0f, PT_INF);
         if (hit.shape == PT_NONE) {
             radiance += throughput * vec3(g.environment);  // the environment is not light-sampled
@@ -478,14 +508,13 @@ vec3 pt_radiance(PtSampleState st, uint px, uint py)
         vec3 n = dot(ng, wo) >= 0.0f ? ng : -ng;
         bool dielectric = m.albedo.w == PT_MAT_DIELECTRIC;
         bool delta = dielectric || (m.albedo.w == PT_MAT_CONDUCTOR && m.emission.w < PT_SMOOTH_ALPHA);
-        if (PT_NEE && !delta) radiance += throughput * pt_next_event(st, v, m, x, n, wo, time);
+        if (PT_NEE && !delta) radiance += throughput * pt_next_event(d, m, x, n, wo, time);
         // Continue only where the plan has BSDF dimensions: always below the depth limit, and at
         // the last vertex only for MIS (to catch emitters by BSDF sampling).
         if (PT_OFF_BSDF_UV == PT_ABSENT || (v == PT_MAX_DEPTH && !(PT_MIS && PT_NEE))) break;
         float uLobe = 0.5f;
-        if (PT_HAS_DIELECTRIC) uLobe = pt_dim(st, pt_vertex_dim(v, PT_OFF_LOBE));
-        PtBsdfSample bs = pt_bsdf_sample(m, ng, wo, pt_dim(st, pt_vertex_dim(v, PT_OFF_BSDF_UV)),
-                                         pt_dim(st, pt_vertex_dim(v, PT_OFF_BSDF_UV) + 1u), uLobe);
+        if (PT_HAS_DIELECTRIC) uLobe = d.u[PT_OFF_LOBE];
+        PtBsdfSample bs = pt_bsdf_sample(m, ng, wo, d.u[PT_OFF_BSDF_UV], d.u[PT_OFF_BSDF_UV + 1u], uLobe);
         if (!bs.valid) break;
         throughput *= bs.weight;
         lastSpecular = bs.specular;
@@ -493,7 +522,7 @@ vec3 pt_radiance(PtSampleState st, uint px, uint py)
         lastPosition = x;
         if (PT_RR_START != 0u && v >= PT_RR_START && v < PT_MAX_DEPTH) {
             float survive = min(max(max(throughput.x, throughput.y), throughput.z), 0.95f);
-            if (pt_dim(st, pt_vertex_dim(v, PT_OFF_RR)) >= survive) break;
+            if (d.u[PT_OFF_RR] >= survive) break;
             throughput /= survive;
         }
         float side = dot(bs.wi, ng) >= 0.0f ? 1.0f : -1.0f;
