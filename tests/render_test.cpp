@@ -509,6 +509,30 @@ TEST(RenderCli, OutputNamesStayWhereTheUserSaid)
     std::filesystem::remove_all(root);
 }
 
+TEST(RenderCli, FuzzerFindingsExitWithAMessageNamingTheScene)
+{
+    // The structured mutator's reproducers (fuzz/regressions/cli): a sampler count no OA makes,
+    // a mesh that is a device, bytes after a NUL. Each exits 2 within the time a load takes,
+    // with a message that starts with the scene file's name (the sampler errors named none).
+    const auto dir = std::filesystem::path(OAS_FUZZ_REGRESSIONS_DIR) / "cli";
+    const auto errFile = std::filesystem::temp_directory_path() / ("oas_fuzz_cli_" + std::to_string(::getpid()));
+    std::size_t checked = 0;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+        if (entry.path().extension() != ".json") continue;
+        const std::string command = "timeout 20 " + std::string(OAS_RENDER_EXE) + " '" + entry.path().string() +
+                                    "' --explain >/dev/null 2>'" + errFile.string() + "'";
+        const int status = std::system(command.c_str());
+        ASSERT_TRUE(WIFEXITED(status));
+        EXPECT_EQ(WEXITSTATUS(status), 2) << entry.path();
+        std::ifstream in(errFile);
+        const std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        EXPECT_EQ(err.rfind("oas-render: error: " + entry.path().string() + ": ", 0), 0u) << err;
+        ++checked;
+    }
+    std::filesystem::remove(errFile);
+    EXPECT_GE(checked, 3u);
+}
+
 TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
 {
 #if defined(__SANITIZE_ADDRESS__)

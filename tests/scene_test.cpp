@@ -11,6 +11,7 @@
 #include <functional>
 #include <iterator>
 #include <string>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
@@ -787,6 +788,49 @@ TEST(BadScenes, QuadsWithParallelEdgesAreRefused)
         j["shapes"][1]["edgeU"] = {1, 0, 0};
         j["shapes"][1]["edgeV"] = json::parse(edgeV);
         EXPECT_EQ(errorOf([&] { parseScene(j.dump(), "thin.json", kScenes); }), "NO EXCEPTION") << edgeV;
+    }
+}
+
+TEST(BadScenes, FuzzerFindingsAreRefused)
+{
+    // Every reproducer the fuzzers found (fuzz/regressions/scene, docs/FUZZING.md) is refused
+    // with a SceneError naming the file: deep nesting, bytes after a NUL, a view axis or motion
+    // that overflows float, mesh triangles of infinite area. The one valid scene among them, a
+    // spot direction of [3e38, 3e38, 3e38] (which float normalize() turned into zeros), loads
+    // with the unit direction it means.
+    const fs::path dir = fs::path(OAS_FUZZ_REGRESSIONS_DIR) / "scene";
+    std::size_t checked = 0;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+        if (entry.path().extension() != ".json") continue;
+        if (entry.path().filename() == "spot_direction_overflow.json") {
+            const Scene s = loadScene(entry.path());
+            ASSERT_EQ(s.lights.size(), 1u);
+            EXPECT_NEAR(glm::length(s.lights[0].direction), 1.0f, 1e-6f);
+            EXPECT_NEAR(s.lights[0].direction.x, 1.0f / std::sqrt(3.0f), 1e-6f);
+            continue;
+        }
+        const std::string msg = errorOf([&] { loadScene(entry.path()); });
+        EXPECT_EQ(msg.rfind(entry.path().string() + ": ", 0), 0u) << entry.path() << ": " << msg.substr(0, 300);
+        ++checked;
+    }
+    EXPECT_GE(checked, 5u);
+}
+
+TEST(BadScenes, DevicesAndFifosAreNotRead)
+{
+    // Regression (fuzzing, issue 8): a mesh "/dev/zero" was read until memory ran out, and a FIFO
+    // would block forever. Neither a scene nor a mesh may be anything but a regular file.
+    TempDir tmp;
+    const fs::path fifo = tmp.path() / "pipe.obj";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    for (const std::string& file : {std::string("/dev/zero"), fifo.string()}) {
+        json j = baseScene();
+        j["shapes"][1] = {{"type", "mesh"}, {"material", "white"}, {"file", file}};
+        const fs::path scene = tmp.write("mesh.json", j.dump());
+        const std::string msg = errorOf([&] { loadScene(scene); });
+        EXPECT_TRUE(contains(msg, "is not a regular file")) << msg;
+        const std::string direct = errorOf([&] { loadScene(file); });
+        EXPECT_TRUE(contains(direct, "is not a regular file")) << direct;
     }
 }
 

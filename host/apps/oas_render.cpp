@@ -140,13 +140,21 @@ int main(int argc, char** argv)
         request.offset = scene.sampler.offset;
         oas::Pattern pattern;
         std::string choice;
-        if (request.sampler == "oa") {
-            const auto c = oas::chooseOrthogonalArray(request);
-            pattern = c.pattern;
-            choice = c.explanation;
-        } else {
-            pattern = oas::makePattern(request);
-            choice = oas::describe(pattern);
+        try {
+            if (request.sampler == "oa") {
+                const auto c = oas::chooseOrthogonalArray(request);
+                pattern = c.pattern;
+                choice = c.explanation;
+            } else {
+                pattern = oas::makePattern(request);
+                choice = oas::describe(pattern);
+            }
+        } catch (const oas::InvalidArgument& e) {
+            // Name where the request came from: the scene's "sampler" object or the options.
+            const bool fromOptions = !sampler.empty() || spp || !offset.empty() || strength;
+            throw oas::InvalidArgument(scene.path.string() + ": sampler" +
+                                       (fromOptions ? " (with the --sampler/--spp/--offset/--strength options)" : "") +
+                                       ": " + e.what());
         }
         if (explain) {
             std::cout << "scene " << scene.name << ": " << scene.width << "x" << scene.height << ", "

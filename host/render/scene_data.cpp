@@ -18,28 +18,6 @@ float bitsAsFloat(std::uint32_t bits)
     return f;
 }
 
-scene::Aabb boundsAt(const scene::Shape& s, float time)
-{
-    scene::Aabb box;
-    const vec3 shift = s.velocity * time;
-    switch (s.type) {
-    case scene::Shape::Type::Sphere:
-        box.extend(s.center + shift - vec3(s.radius));
-        box.extend(s.center + shift + vec3(s.radius));
-        break;
-    case scene::Shape::Type::Quad:
-        for (float a : {0.0f, 1.0f})
-            for (float b : {0.0f, 1.0f}) box.extend(s.corner + shift + s.edgeU * a + s.edgeV * b);
-        break;
-    case scene::Shape::Type::Triangle:
-        box.extend(s.p0 + shift);
-        box.extend(s.p1 + shift);
-        box.extend(s.p2 + shift);
-        break;
-    }
-    return box;
-}
-
 pt::PtShape toPt(const scene::Shape& s)
 {
     pt::PtShape p{};
@@ -74,8 +52,8 @@ SceneData flattenScene(const scene::Scene& sc)
     std::vector<scene::Aabb> bounds;
     bounds.reserve(sc.shapes.size());
     for (const auto& s : sc.shapes) {
-        scene::Aabb box = boundsAt(s, sc.shutterOpen);
-        if (s.moves()) box.extend(boundsAt(s, sc.shutterClose));
+        scene::Aabb box = s.boundsAt(sc.shutterOpen);
+        if (s.moves()) box.extend(s.boundsAt(sc.shutterClose));
         // Pad so that flat shapes (quads in a coordinate plane) keep a box rays can enter.
         const vec3 pad = vec3(1e-4f) * (vec3(1.0f) + glm::abs(box.lo) + glm::abs(box.hi));
         box.lo -= pad;

@@ -213,6 +213,12 @@ ObjMesh readObj(const std::filesystem::path& file)
     const auto status = std::filesystem::status(file, ec);
     if (!std::filesystem::exists(status)) throw ObjError(file.string(), 0, "mesh file not found (no such file)");
     if (std::filesystem::is_directory(status)) throw ObjError(file.string(), 0, "is a directory, not a mesh file");
+    // A device or FIFO ("/dev/zero", a pipe) would be read without end or block forever.
+    if (!std::filesystem::is_regular_file(status))
+        throw ObjError(file.string(), 0, "is not a regular file (a device, FIFO or socket): valid an OBJ file");
+    constexpr std::uintmax_t kMaxObjBytes = std::uintmax_t(1) << 30;
+    if (const auto size = std::filesystem::file_size(file, ec); !ec && size > kMaxObjBytes)
+        throw ObjError(file.string(), 0, "is " + std::to_string(size) + " bytes: valid OBJ files up to 1 GiB");
     std::ifstream in(file, std::ios::binary);
     if (!in) throw ObjError(file.string(), 0, "cannot open the mesh file for reading");
     std::ostringstream buffer;

@@ -41,6 +41,28 @@ float Shape::area() const
     return 0;
 }
 
+Aabb Shape::boundsAt(float time) const
+{
+    Aabb box;
+    const glm::vec3 shift = velocity * time;
+    switch (type) {
+    case Type::Sphere:
+        box.extend(center + shift - glm::vec3(radius));
+        box.extend(center + shift + glm::vec3(radius));
+        break;
+    case Type::Quad:
+        for (float a : {0.0f, 1.0f})
+            for (float b : {0.0f, 1.0f}) box.extend(corner + shift + edgeU * a + edgeV * b);
+        break;
+    case Type::Triangle:
+        box.extend(p0 + shift);
+        box.extend(p1 + shift);
+        box.extend(p2 + shift);
+        break;
+    }
+    return box;
+}
+
 bool Scene::hasMotionBlur() const
 {
     if (!(shutterClose > shutterOpen)) return false;
@@ -81,6 +103,7 @@ namespace {
 constexpr std::uint32_t kMaxResolution = 16384;
 constexpr std::uint32_t kMaxSpp = 1u << 24;
 constexpr std::uint32_t kMaxPathDepth = 256;
+constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(64) << 20;
 
 std::string join(std::initializer_list<std::string_view> items, std::string_view sep = ", ")
 {
@@ -214,6 +237,10 @@ struct TooDeep {
 
 json parseJson(const std::string& text, const std::string& file)
 {
+    // nlohmann's parser stops at a NUL byte as if the text ended there, so "valid JSON\0garbage"
+    // would load; JSON text cannot contain a raw NUL anyway.
+    if (const auto nul = text.find('\0'); nul != std::string::npos)
+        throw SceneError(file, {}, fmt::format("malformed JSON: a NUL byte at offset {}: valid JSON text (UTF-8, no NUL)", nul));
     PathTracker tracker;
     auto callback = [&](int, json::parse_event_t event, json& parsed) -> bool {
         using E = json::parse_event_t;
@@ -434,6 +461,14 @@ private:
         return {component(v[0], element(path, 0)), component(v[1], element(path, 1)), component(v[2], element(path, 2))};
     }
 
+    /// v / |v| with the length taken in double: in float, |v| of a huge vector overflows and
+    /// normalize() returns zeros (a spot direction of [3e38, 3e38, 3e38] became [0, 0, 0]).
+    static glm::vec3 unitVector(const glm::vec3& v)
+    {
+        const double len = std::sqrt(double(v.x) * v.x + double(v.y) * v.y + double(v.z) * v.z);
+        return glm::vec3(float(v.x / len), float(v.y / len), float(v.z / len));
+    }
+
     glm::vec3 nonzeroVec3(const json& v, const std::string& path, std::string_view what) const
     {
         const glm::vec3 r = vec3(v, path);
@@ -463,10 +498,15 @@ private:
         const glm::vec3 axis = cam.lookAt - cam.position;
         if (!(glm::length(axis) > 0))
             fail(child(p, "lookAt"), fmt::format("{} equals the camera position: valid any other point", show(cam.lookAt)));
+        if (!std::isfinite(glm::length(axis)))
+            fail(child(p, "lookAt"), fmt::format("lookAt {} - position {} overflows 32-bit floats (|lookAt - position| "
+                                                 "must be < 3.4e38): valid closer points",
+                                                 show(cam.lookAt), show(cam.position)));
         if (auto* u = find(v, "up")) cam.up = vec3(*u, child(p, "up"));
-        if (!(glm::length(cam.up) > 0) ||
-            glm::length(glm::cross(glm::normalize(axis), glm::normalize(cam.up))) < 1e-6f)
-            fail(child(p, "up"), fmt::format("{} is zero or parallel to the view direction {}: valid a vector not "
+        // Written so that NaN (an up vector whose length overflows) fails too.
+        if (!(glm::length(cam.up) > 0 && std::isfinite(glm::length(cam.up))) ||
+            !(glm::length(glm::cross(glm::normalize(axis), glm::normalize(cam.up))) >= 1e-6f))
+            fail(child(p, "up"), fmt::format("{} is zero, too long for 32-bit floats, or parallel to the view direction {}: valid a vector not "
                                              "parallel to lookAt - position",
                                              show(cam.up), show(axis)));
         cam.fovYDegrees = realIn(require(v, p, "fovY", "degrees in (0, 180)"), child(p, "fovY"), 0, 180,
@@ -598,7 +638,23 @@ private:
                                     kind, show(shape.p0), show(shape.p1), show(shape.p2), shape.area()));
             if (!std::isfinite(shape.area()))
                 fail(p, fmt::format("the {}'s area {} overflows 32-bit floats: valid a smaller shape", kind, shape.area()));
+            checkFiniteBounds(shape, scene, p, kind);
             scene.shapes.push_back(std::move(shape));
+        }
+    }
+
+    /// The renderer bounds a shape at shutter open and close; a velocity that carries it past the
+    /// float range there would give infinite or NaN boxes (the loader checked positions at t = 0).
+    void checkFiniteBounds(const Shape& shape, const Scene& scene, const std::string& path, std::string_view kind) const
+    {
+        for (const float t : {0.0f, scene.shutterOpen, scene.shutterClose}) {
+            const Aabb box = shape.boundsAt(t);
+            const bool finite = std::isfinite(box.lo.x) && std::isfinite(box.lo.y) && std::isfinite(box.lo.z) &&
+                                std::isfinite(box.hi.x) && std::isfinite(box.hi.y) && std::isfinite(box.hi.z);
+            if (!finite)
+                fail(path, fmt::format("the {} moved by velocity {} to time {} leaves the 32-bit float range: valid a "
+                                       "smaller velocity or shutter interval",
+                                       kind, show(shape.velocity), t));
         }
     }
 
@@ -645,8 +701,8 @@ private:
             shape.p0 = obj.positions[tri[0]] * scale + translate;
             shape.p1 = obj.positions[tri[1]] * scale + translate;
             shape.p2 = obj.positions[tri[2]] * scale + translate;
-            if (!std::isfinite(shape.p0.x + shape.p0.y + shape.p0.z + shape.p1.x + shape.p1.y + shape.p1.z +
-                               shape.p2.x + shape.p2.y + shape.p2.z))
+            const auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+            if (!finite(shape.p0) || !finite(shape.p1) || !finite(shape.p2))
                 fail(child(p, "scale"), fmt::format("mesh \"{}\" scaled by {} and translated by {} leaves the 32-bit "
                                                     "float range: valid a smaller scale or translation",
                                                     info.file, show(scale), show(translate)));
@@ -654,7 +710,12 @@ private:
                 ++info.degenerateDropped;
                 continue;
             }
+            if (!std::isfinite(shape.area()))
+                fail(child(p, "scale"), fmt::format("mesh \"{}\" scaled by {} has a triangle whose area {} overflows 32-bit "
+                                                    "floats: valid a smaller scale",
+                                                    info.file, show(scale), shape.area()));
             shape.velocity = velocity;
+            checkFiniteBounds(shape, scene, child(p, "velocity"), "mesh triangle");
             shape.sourceMesh = info.file;
             scene.shapes.push_back(std::move(shape));
         }
@@ -690,7 +751,7 @@ private:
             light.intensity = color(require(l, p, "intensity", "W/sr, a number or [r, g, b] >= 0"),
                                     child(p, "intensity"), 0, FLT_MAX);
             if (light.type == Light::Type::Spot) {
-                light.direction = glm::normalize(
+                light.direction = unitVector(
                     nonzeroVec3(require(l, p, "direction", "[x, y, z], nonzero"), child(p, "direction"), "direction"));
                 const float outer = realIn(require(l, p, "outerAngle", "degrees in (0, 180]"), child(p, "outerAngle"), 0,
                                            180, "(0, 180] degrees (half-angle from the axis)", true);
@@ -798,6 +859,12 @@ Scene loadScene(const fs::path& file)
     const auto status = fs::status(file, ec);
     if (!fs::exists(status)) throw SceneError(file.string(), {}, "scene file not found (no such file)");
     if (fs::is_directory(status)) throw SceneError(file.string(), {}, "is a directory, not a scene file");
+    // A device or FIFO (/dev/zero, a pipe) would be read without end or block forever.
+    if (!fs::is_regular_file(status))
+        throw SceneError(file.string(), {}, "is not a regular file (a device, FIFO or socket): valid a scene file");
+    if (const auto size = fs::file_size(file, ec); !ec && size > kMaxSceneBytes)
+        throw SceneError(file.string(), {}, fmt::format("is {} bytes: valid scene files up to {} MiB (meshes go in OBJ files)",
+                                                        size, kMaxSceneBytes >> 20));
     std::ifstream in(file, std::ios::binary);
     if (!in) throw SceneError(file.string(), {}, "cannot open the scene file for reading");
     std::ostringstream text;

@@ -16,6 +16,8 @@
 
 #include <glm/vec3.hpp>
 
+#include "scene/bvh.hpp"
+
 namespace oas::scene {
 
 /// A scene that cannot be loaded. what() is the complete message; the parts are kept for tools
@@ -83,6 +85,9 @@ struct Shape {
     bool moves() const { return velocity.x != 0 || velocity.y != 0 || velocity.z != 0; }
     /// Surface area in world units squared (at t = 0; motion is a translation).
     float area() const;
+    /// The box the renderer bounds the shape by at `time` (positions + velocity * time, in float
+    /// as the renderer computes them). The loader refuses shapes whose box is not finite.
+    Aabb boundsAt(float time) const;
 };
 
 /// A delta light (not hit by rays; sampled by next-event estimation only).
