@@ -465,9 +465,17 @@ vec3 pt_radiance(PtSampleState st, uint px, uint py)
     vec3 lastPosition = origin;
     // Group 0 is the camera ray (its dimensions [0, PT_DIM_VERTEX_BASE)), group v >= 1 the path
     // vertex v; every sample dimension is fetched by the one pt_group_dims call below.
+    // Fetch only what the plan uses, not the alignment gaps that end a group.
+    uint cameraDims = PT_HAS_MOTION ? PT_DIM_TIME + 1u : (PT_HAS_LENS ? PT_DIM_LENS + 2u : PT_DIM_PIXEL + 2u);
+    uint vertexDims = 0u;
+    if (PT_OFF_LIGHT_UV != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_LIGHT_UV + 2u);
+    if (PT_OFF_BSDF_UV != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_BSDF_UV + 2u);
+    if (PT_OFF_LIGHT_SELECT != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_LIGHT_SELECT + 1u);
+    if (PT_OFF_LOBE != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_LOBE + 1u);
+    if (PT_OFF_RR != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_RR + 1u);
     for (uint v = 0u; v <= PT_MAX_DEPTH + 1u; ++v) {
         uint first = v == 0u ? 0u : pt_vertex_dim(v, 0u);
-        uint count = v == 0u ? PT_DIM_VERTEX_BASE : (v > PT_MAX_DEPTH ? 0u : PT_DIM_VERTEX_STRIDE);
+        uint count = v == 0u ? cameraDims : (v > PT_MAX_DEPTH ? 0u : vertexDims);
         PtDims d = pt_group_dims(st, first, count);
         if (v == 0u) {
             float sx = (float(px) + d.u[PT_DIM_PIXEL]) / g.image.x * 2.0f - 1.0f;
