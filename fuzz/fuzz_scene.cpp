@@ -38,33 +38,11 @@ const std::filesystem::path& meshDir()
     return dir;
 }
 
-// As host/render/scene_data.cpp (boundsAt, flattenScene): kept in step by hand.
-Aabb boundsAt(const Shape& s, float time)
-{
-    Aabb box;
-    const vec3 shift = s.velocity * time;
-    switch (s.type) {
-    case Shape::Type::Sphere:
-        box.extend(s.center + shift - vec3(s.radius));
-        box.extend(s.center + shift + vec3(s.radius));
-        break;
-    case Shape::Type::Quad:
-        for (float a : {0.0f, 1.0f})
-            for (float b : {0.0f, 1.0f}) box.extend(s.corner + shift + s.edgeU * a + s.edgeV * b);
-        break;
-    case Shape::Type::Triangle:
-        box.extend(s.p0 + shift);
-        box.extend(s.p1 + shift);
-        box.extend(s.p2 + shift);
-        break;
-    }
-    return box;
-}
-
+// As host/render/scene_data.cpp (flattenScene, on Shape::boundsAt): kept in step by hand.
 Aabb rendererBounds(const Scene& sc, const Shape& s)
 {
-    Aabb box = boundsAt(s, sc.shutterOpen);
-    if (s.moves()) box.extend(boundsAt(s, sc.shutterClose));
+    Aabb box = s.boundsAt(sc.shutterOpen);
+    if (s.moves()) box.extend(s.boundsAt(sc.shutterClose));
     const vec3 pad = vec3(1e-4f) * (vec3(1.0f) + glm::abs(box.lo) + glm::abs(box.hi));
     box.lo -= pad;
     box.hi += pad;

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages oas needs to build and test, only those missing.
+# Installs the Debian 12 packages oas needs to build and test, only those missing, plus any
+# package named on the command line (scripts/fuzz.sh adds clang and its fuzzer runtime).
 # Needs root (or sudo). Safe to run again: it does nothing when everything is present.
 set -euo pipefail
 packages=(
@@ -7,6 +8,7 @@ packages=(
   mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers vulkan-tools glslang-tools spirv-tools
   libglm-dev libglfw3-dev libopenexr-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev libgtest-dev
+  "$@"
 )
 missing=()
 for p in "${packages[@]}"; do
