@@ -25,20 +25,26 @@
 //         The same values, faster when you consume many dimensions of one OA block: dimension
 //         block * p.blockDims + col. (oas_sample = oas_row + oas_row_dim, or the baselines.)
 //
-// EXAMPLE (another renderer's path-tracing shader)
+// EXAMPLE (another renderer's path-tracing shader: one invocation per pixel and sample)
 //   #extension GL_GOOGLE_include_directive : require
 //   #include "oas/oas.glsl"
-//   layout(push_constant) uniform Params { OasPattern pattern; uint frameSeed; } params;
+//   layout(push_constant) uniform Params { OasPattern pattern; uint frameSeed; uint spp; } params;
 //   ...
-//   uint seed = oas_pixel_seed(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y, params.frameSeed);
-//   for (uint s = 0u; s < spp; ++s) {
-//       vec2 pixelJitter = vec2(oas_sample(params.pattern, seed, s, 0u),
-//                               oas_sample(params.pattern, seed, s, 1u));
-//       vec2 lensUV      = vec2(oas_sample(params.pattern, seed, s, 2u),
-//                               oas_sample(params.pattern, seed, s, 3u));
-//       ...
-//   }
+//   uint pixel = gl_GlobalInvocationID.x, s = gl_GlobalInvocationID.y;   // s < params.spp
+//   uint seed = oas_pixel_seed(pixel % width, pixel / width, params.frameSeed);
+//   vec2 pixelJitter = vec2(oas_sample(params.pattern, seed, s, 0u),
+//                           oas_sample(params.pattern, seed, s, 1u));
+//   vec2 lensUV      = vec2(oas_sample(params.pattern, seed, s, 2u),
+//                           oas_sample(params.pattern, seed, s, 3u));
+//   ...
 //   Put paired dimensions on partner columns (0,1), (2,3), ... : Bose CMJ correlates those pairs.
+//   Give each sample its own invocation (or a few per invocation). Today's permutations loop
+//   (cycle walking, a data-dependent count), and lavapipe silently ends every invocation's loops
+//   after 65535 iterations in total: one invocation looping over 121 samples x 12 dims returned
+//   zeros from sample 33 on. Fetch the dimensions you need at one call site (a loop over them),
+//   not at every use: GPU compilers inline the whole sampler wherever it is called, which made a
+//   path tracer's pipeline build take 20 s on lavapipe instead of 1.5 s (shaders/pt/pt_trace.glsl,
+//   pt_group_dims).
 //
 // NUMERIC CONTRACT
 //   Outputs are F * 2^-24 with integer F in [0, 2^24). A point promised to stratum m of K strata
