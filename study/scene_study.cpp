@@ -43,9 +43,10 @@ bool isOa(const SamplerSpec& s) { return s.strength > 0; }
 std::string sci(double v) { return std::isfinite(v) ? fmtG(v, 3) : "—"; }
 
 /// One GPU tracer per pipeline specialization, reused across sample counts (the pattern is a push
-/// constant). Lavapipe takes ~17 s to build one path-tracing pipeline on this machine, so all of a
-/// scene's pipelines are built up front on every core (pipeline creation is thread-safe in Vulkan)
-/// and warmed up with one untimed dispatch: builds and first-use costs stay out of the timings.
+/// constant). Lavapipe took ~17 s to build one path-tracing pipeline on this machine (1.5 s since
+/// the tracer calls the sampler at one site), so all of a scene's pipelines are built up front on
+/// every core (pipeline creation is thread-safe in Vulkan) and warmed up with one untimed dispatch:
+/// builds and first-use costs stay out of the timings.
 class TracerCache {
 public:
     TracerCache(oas::vk::Context& context, const oas::render::SceneData& data, const oas::render::DimensionPlan& plan)
