@@ -46,7 +46,7 @@ Mse mseOf(const std::vector<double>& errors)
 
 /// One randomization of the pattern's first kDims columns with uniform permutations: the point
 /// set the library would make if its permutations were drawn uniformly (oas_row_dim's recipe).
-std::vector<float> uniformlyRandomized(const oas::Pattern& pattern, std::mt19937& rng)
+std::vector<float> uniformlyRandomized(const oas::Pattern& pattern, std::mt19937& rng, bool rotationsOnly = false)
 {
     const auto pat = oas::glsl::toGlsl(pattern);
     const std::uint32_t N = pattern.N, s = pattern.s, subCount = N / s;
@@ -54,7 +54,10 @@ std::vector<float> uniformlyRandomized(const oas::Pattern& pattern, std::mt19937
     auto permutation = [&](std::uint32_t n) {
         std::vector<std::uint32_t> p(n);
         std::iota(p.begin(), p.end(), 0u);
-        std::shuffle(p.begin(), p.end(), rng);
+        if (rotationsOnly)  // the negative control's weak family: x -> x + r mod n
+            std::rotate(p.begin(), p.begin() + std::uniform_int_distribution<std::uint32_t>(0, n - 1)(rng), p.end());
+        else
+            std::shuffle(p.begin(), p.end(), rng);
         return p;
     };
     std::vector<float> points(std::size_t(N) * kDims);
@@ -147,6 +150,32 @@ TEST(PermutationQuality, LibraryRandomizationMatchesUniformPermutationsInMse)
             }
         }
     }
+}
+
+TEST(PermutationQuality, AWeakPermutationFamilyIsCaught)
+{
+    // The comparison must be able to fail: randomizing with cyclic rotations only (x -> x + r mod
+    // n, a family of n permutations instead of n!) keeps a linear OA a translate of itself, and
+    // the MSE ratio against uniform permutations leaves the band of the test above.
+    oas::PatternRequest request;
+    request.sampler = "bose";
+    request.spp = 49;
+    request.dims = kDims;
+    request.offset = "j";
+    const oas::Pattern pattern = oas::makePattern(request);
+    const Integrand f{Combo::Radial, Kernel::Gaussian, kDims};
+    const double truth = oas::study::closedFormReference(f).value;
+    std::mt19937 rng(7);
+    std::vector<double> weak, uniform;
+    for (int m = 0; m < 1024; ++m) {
+        weak.push_back(estimate(f, uniformlyRandomized(pattern, rng, true)) - truth);
+        uniform.push_back(estimate(f, uniformlyRandomized(pattern, rng)) - truth);
+    }
+    const Mse a = mseOf(weak), b = mseOf(uniform);
+    const double ratio = a.value / b.value;
+    const double se = ratio * std::hypot(a.standardError / a.value, b.standardError / b.value);
+    std::printf("rotations only / uniform: MSE ratio %.3f +- %.3f\n", ratio, se);
+    EXPECT_GT(std::abs(ratio - 1.0), 4.5 * se + 1e-3);
 }
 
 }  // namespace
