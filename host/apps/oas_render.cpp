@@ -25,14 +25,10 @@
 namespace {
 
 /// The signal that asked us to stop (0: none). The first of SIGINT, SIGTERM, SIGHUP stops the
-/// render after the current pass; the handler then restores the default action, so a second one
-/// ends the process at once (the user asked twice).
+/// render after the current pass; SA_RESETHAND restores the default action on delivery, so a
+/// second one ends the process at once (the user asked twice).
 volatile std::sig_atomic_t gStopSignal = 0;
-extern "C" void onStopSignal(int sig)
-{
-    gStopSignal = sig;
-    std::signal(sig, SIG_DFL);
-}
+extern "C" void onStopSignal(int sig) { gStopSignal = sig; }
 
 void installStopHandlers()
 {
@@ -40,7 +36,7 @@ void installStopHandlers()
         struct sigaction action {};
         action.sa_handler = onStopSignal;
         sigemptyset(&action.sa_mask);
-        action.sa_flags = SA_RESTART;
+        action.sa_flags = SA_RESTART | SA_RESETHAND;
         ::sigaction(sig, &action, nullptr);
     }
 }

@@ -32,11 +32,11 @@ std::size_t removeStaleTemporaries(const std::string& path)
         // The rest must be <pid> or <pid>.<n>, decimal: anything else is not ours.
         const std::string rest = name.substr(prefix.size());
         const std::size_t dot = rest.find('.');
-        const std::string pidText = rest.substr(0, dot), counterText = dot == std::string::npos ? "1" : rest.substr(dot + 1);
         const auto digits = [](const std::string& s) {
             return !s.empty() && s.size() <= 10 && s.find_first_not_of("0123456789") == std::string::npos;
         };
-        if (!digits(pidText) || !digits(counterText)) continue;
+        const std::string pidText = rest.substr(0, dot);
+        if (!digits(pidText) || (dot != std::string::npos && !digits(rest.substr(dot + 1)))) continue;
         const long long pid = std::stoll(pidText);
         if (pid <= 0 || pid > 0x7fffffff || pid == ::getpid()) continue;
         if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge

@@ -96,7 +96,7 @@ glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const P
     shared::PtSampleState st;
     st.seed = glsl::oas_pixel_seed(0, 0, seed);
     st.index = sampleIndex;
-    const shared::PtDims d = shared::pt_group_dims(st, shared::pt_vertex_dim(vertex, 0u), plan.vertexStride);
+    const shared::PtDims d = shared::pt_group_dims(st, shared::pt_vertex_dim(vertex, 0u), shared::pt_vertex_dims_used());
     return shared::pt_next_event(d, shared::pt_material(material), x, n, wo, time);
 }
 

@@ -37,6 +37,25 @@ struct PtDims {
     float u[PT_GROUP_MAX];
 };
 
+/// Dimensions the camera group uses: pixel, then lens and time where present (not the alignment
+/// gap before the first vertex group).
+uint pt_camera_dims_used()
+{
+    return PT_HAS_MOTION ? PT_DIM_TIME + 1u : (PT_HAS_LENS ? PT_DIM_LENS + 2u : PT_DIM_PIXEL + 2u);
+}
+
+/// Dimensions a vertex group uses: up to its last present effect (not the alignment gap).
+uint pt_vertex_dims_used()
+{
+    uint n = 0u;
+    if (PT_OFF_LIGHT_UV != PT_ABSENT) n = max(n, PT_OFF_LIGHT_UV + 2u);
+    if (PT_OFF_BSDF_UV != PT_ABSENT) n = max(n, PT_OFF_BSDF_UV + 2u);
+    if (PT_OFF_LIGHT_SELECT != PT_ABSENT) n = max(n, PT_OFF_LIGHT_SELECT + 1u);
+    if (PT_OFF_LOBE != PT_ABSENT) n = max(n, PT_OFF_LOBE + 1u);
+    if (PT_OFF_RR != PT_ABSENT) n = max(n, PT_OFF_RR + 1u);
+    return n;
+}
+
 /// Fetches a whole group at once. pt_radiance calls this at one site only: the GPU compiler
 /// inlines the sampler wherever it is called, and with a call per use (a dozen in this file) the
 /// lavapipe pipeline build took ~20 s, against ~0.1 s with the sampler replaced by one hash.
@@ -465,14 +484,8 @@ vec3 pt_radiance(PtSampleState st, uint px, uint py)
     vec3 lastPosition = origin;
     // Group 0 is the camera ray (its dimensions [0, PT_DIM_VERTEX_BASE)), group v >= 1 the path
     // vertex v; every sample dimension is fetched by the one pt_group_dims call below.
-    // Fetch only what the plan uses, not the alignment gaps that end a group.
-    uint cameraDims = PT_HAS_MOTION ? PT_DIM_TIME + 1u : (PT_HAS_LENS ? PT_DIM_LENS + 2u : PT_DIM_PIXEL + 2u);
-    uint vertexDims = 0u;
-    if (PT_OFF_LIGHT_UV != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_LIGHT_UV + 2u);
-    if (PT_OFF_BSDF_UV != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_BSDF_UV + 2u);
-    if (PT_OFF_LIGHT_SELECT != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_LIGHT_SELECT + 1u);
-    if (PT_OFF_LOBE != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_LOBE + 1u);
-    if (PT_OFF_RR != PT_ABSENT) vertexDims = max(vertexDims, PT_OFF_RR + 1u);
+    uint cameraDims = pt_camera_dims_used();
+    uint vertexDims = pt_vertex_dims_used();
     for (uint v = 0u; v <= PT_MAX_DEPTH + 1u; ++v) {
         uint first = v == 0u ? 0u : pt_vertex_dim(v, 0u);
         uint count = v == 0u ? cameraDims : (v > PT_MAX_DEPTH ? 0u : vertexDims);
