@@ -1,9 +1,12 @@
 #version 450
 // Writes the samples of (pixels x spp x dims) into a buffer, laid out [pixel][sample][dim] with
-// pixel = y * width + x over a rectangle. One invocation per (pixel, sample, group of
-// OAS_DIMS_PER_INVOCATION dims); the host dispatches chunks of items (firstItem, itemCount) so each
-// dispatch stays within device limits. Groups keep each invocation's total loop count small:
-// lavapipe (Mesa 22.3) silently stops a shader's loops after 65535 iterations in all.
+// pixel = y * width + x over a rectangle. One invocation per (pixel, run of samplesPerRun
+// consecutive samples, group of up to OAS_GROUP_DIMS dims of one OA block): the block and column
+// state (OasBlock, OasColumn: seeds, permutation keys, field constants) is made once per pass
+// and reused by every sample of the run, which is the library's fast path. The host dispatches
+// chunks of whole runs (firstItem, itemCount) so each dispatch stays within device limits, and
+// picks samplesPerRun so an invocation's loop iterations stay far below lavapipe's silent cap of
+// 65535 (generate_gpu.cpp, samplesPerRun).
 // OAS_HASH_ONLY (a -D define) builds the same-shape kernel that only hashes: the benchmark's
 // practical ceiling for a per-(sample, dim) stateless sampler.
 #extension GL_GOOGLE_include_directive : require
@@ -23,7 +26,7 @@ layout(std430, binding = 1) readonly buffer SobolDirections { uint sobolDirectio
 #include "oas/oas.glsl"
 
 layout(local_size_x = 64) in;
-const uint OAS_DIMS_PER_INVOCATION = 8u;  // keep equal to kDimsPerInvocation in generate_gpu.cpp
+const uint OAS_GROUP_DIMS = 2u;  // keep equal to kGroupDims in generate_gpu.cpp
 
 layout(push_constant) uniform GenerateParams {
     OasPattern pattern;
@@ -35,7 +38,11 @@ layout(push_constant) uniform GenerateParams {
     uint seed;
     uint firstItem;
     uint itemCount;
-    uint firstSample;  // sample indices [firstSample, firstSample + spp)
+    uint firstSample;    // sample indices [firstSample, firstSample + spp)
+    uint samplesPerRun;  // samples one invocation evaluates
+    uint groupsPerBlock; // OAs: ceil(min(blockDims, dims) / OAS_GROUP_DIMS); baselines: 0
+    uint groups;         // dimension groups per (pixel, run)
+    uint chunkFirstPoint;  // pixel * spp + sample of the chunk's first output point
 } params;
 
 layout(std430, binding = 0) writeonly buffer Samples { float values[]; };
@@ -44,33 +51,56 @@ void main()
 {
     uint local = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     if (local >= params.itemCount) return;
-    uint groups = (params.dims + OAS_DIMS_PER_INVOCATION - 1u) / OAS_DIMS_PER_INVOCATION;
-    uint item = params.firstItem + local;     // item = (pixel * spp + sample) * groups + group
-    uint pointItem = item / groups;
-    uint group = item - pointItem * groups;
-    uint pixel = pointItem / params.spp;
-    uint index = params.firstSample + (pointItem - pixel * params.spp);
+    uint runs = (params.spp + params.samplesPerRun - 1u) / params.samplesPerRun;
+    uint item = params.firstItem + local;  // item = (pixel * runs + run) * groups + group
+    uint pixelRun = item / params.groups;
+    uint group = item - pixelRun * params.groups;
+    uint pixel = pixelRun / runs;
+    uint run = pixelRun - pixel * runs;
     uint py = pixel / params.width;
     uint seed = oas_pixel_seed(params.x0 + (pixel - py * params.width), params.y0 + py, params.seed);
-    uint firstDim = group * OAS_DIMS_PER_INVOCATION;
-    uint endDim = min(params.dims, firstDim + OAS_DIMS_PER_INVOCATION);
-    // Output offset relative to the chunk: the chunk starts at a whole point (see generate_gpu.cpp).
-    uint base = (pointItem - params.firstItem / groups) * params.dims;
+    // Dimensions [firstDim, firstDim + groupDims): within one OA block for the OA constructions.
+    uint block = 0u;
+    uint firstCol = group * OAS_GROUP_DIMS;
+    uint blockDims = params.dims;
+    if (OAS_CONSTRUCTION(params.pattern) < OAS_RANDOM) {
+        block = group / params.groupsPerBlock;
+        firstCol = (group - block * params.groupsPerBlock) * OAS_GROUP_DIMS;
+        blockDims = params.pattern.blockDims;
+    }
+    uint firstDim = block * blockDims + firstCol;
+    if (firstDim >= params.dims || firstCol >= blockDims) return;
+    uint groupDims = min(OAS_GROUP_DIMS, min(blockDims - firstCol, params.dims - firstDim));
+    uint firstRunSample = run * params.samplesPerRun;  // relative to params.firstSample
+    uint count = min(params.samplesPerRun, params.spp - firstRunSample);
+    // Output offset relative to the chunk, which starts at a whole run (see generate_gpu.cpp).
+    uint outAt = (pixel * params.spp + firstRunSample - params.chunkFirstPoint) * params.dims + firstDim;
+    uint index = params.firstSample + firstRunSample;
 #ifdef OAS_HASH_ONLY
-    for (uint d = firstDim; d < endDim; ++d)
-        values[base + d] = float(oas_hash3(seed, d, index) >> 8u) * OAS_INV_2POW24;
+    for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
+        for (uint c = 0u; c < groupDims; ++c)
+            values[outAt + c] = float(oas_hash3(seed, firstDim + c, index) >> 8u) * OAS_INV_2POW24;
 #else
-    if (params.pattern.construction >= OAS_RANDOM) {
-        for (uint d = firstDim; d < endDim; ++d) values[base + d] = oas_sample(params.pattern, seed, index, d);
+    if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {  // baselines: no per-column state to share
+        for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
+            for (uint c = 0u; c < groupDims; ++c)
+                values[outAt + c] = oas_sample(params.pattern, seed, index, firstDim + c);
         return;
     }
-    // One row shuffle per OA block, shared by the block's dimensions (as generateCpu does).
-    uint d = firstDim;
-    while (d < endDim) {
-        uint block = d / params.pattern.blockDims;
-        OasRow row = oas_row(params.pattern, seed, index, block);
-        uint blockEnd = min(endDim, (block + 1u) * params.pattern.blockDims);
-        for (; d < blockEnd; ++d) values[base + d] = oas_row_dim(params.pattern, row, d - block * params.pattern.blockDims);
+    // A run may cross the end of a pass (a multiple of N); the state is remade for each pass.
+    while (count != 0u) {
+        OasBlock b = oas_block(params.pattern, seed, index, block);
+        uint inPass = min(count, params.pattern.N - (index - b.firstIndex));
+        // Two columns in named variables rather than an array: a run-time indexed local array
+        // is a memory gather on lavapipe.
+        OasColumn c0 = oas_column(params.pattern, b.seed, firstCol);
+        OasColumn c1 = oas_column(params.pattern, b.seed, min(firstCol + 1u, blockDims - 1u));
+        for (uint k = 0u; k < inPass; ++k, ++index, outAt += params.dims) {
+            OasRow r = oas_block_row(b, index);
+            values[outAt] = oas_column_dim(params.pattern, c0, r);
+            if (groupDims > 1u) values[outAt + 1u] = oas_column_dim(params.pattern, c1, r);
+        }
+        count -= inPass;
     }
 #endif
 }

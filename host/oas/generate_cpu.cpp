@@ -20,22 +20,36 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
     const std::uint64_t pixels = std::uint64_t(r.width) * r.height;
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     auto work = [&](std::uint64_t begin, std::uint64_t end) {
+        std::vector<glsl::OasColumn> columns;
         for (std::uint64_t px = begin; px < end; ++px) {
             const std::uint32_t x = r.x0 + std::uint32_t(px % r.width);
             const std::uint32_t y = r.y0 + std::uint32_t(px / r.width);
             const std::uint32_t seed = glsl::oas_pixel_seed(x, y, r.seed);
-            float* dst = out + px * r.spp * r.dims;
-            for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp; ++i) {
-                if (pat.construction >= glsl::OAS_RANDOM) {
+            float* pixelOut = out + px * r.spp * r.dims;
+            if (pat.construction >= glsl::OAS_RANDOM) {
+                float* dst = pixelOut;
+                for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp; ++i)
                     for (std::uint32_t d = 0; d < r.dims; ++d) *dst++ = glsl::oas_sample(pat, seed, i, d);
-                    continue;
+                continue;
+            }
+            // The fast path the GPU kernel takes too: block and column state once per pass,
+            // one row computation per (sample, block).
+            for (std::uint32_t done = 0; done < r.spp;) {
+                const std::uint32_t first = r.firstSample + done;
+                std::uint32_t count = 0;
+                for (std::uint32_t block = 0, d0 = 0; d0 < r.dims; ++block, d0 += pat.blockDims) {
+                    const glsl::OasBlock b = glsl::oas_block(pat, seed, first, block);
+                    count = std::min(r.spp - done, pat.N - (first - b.firstIndex));
+                    const std::uint32_t cols = std::min(pat.blockDims, r.dims - d0);
+                    columns.clear();
+                    for (std::uint32_t col = 0; col < cols; ++col) columns.push_back(glsl::oas_column(pat, b.seed, col));
+                    for (std::uint32_t k = 0; k < count; ++k) {
+                        const glsl::OasRow row = glsl::oas_block_row(b, first + k);
+                        float* dst = pixelOut + std::size_t(done + k) * r.dims + d0;
+                        for (std::uint32_t col = 0; col < cols; ++col) dst[col] = glsl::oas_column_dim(pat, columns[col], row);
+                    }
                 }
-                // The fast path the GPU kernel takes too: one row computation per OA block.
-                for (std::uint32_t block = 0, d = 0; d < r.dims; ++block) {
-                    const glsl::OasRow row = glsl::oas_row(pat, seed, i, block);
-                    for (std::uint32_t col = 0; col < pat.blockDims && d < r.dims; ++col, ++d)
-                        *dst++ = glsl::oas_row_dim(pat, row, col);
-                }
+                done += count;
             }
         }
     };

@@ -1,21 +1,59 @@
 #include "oas/generate_gpu.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 
+#include "oas/glsl_compat.hpp"
 #include "oas_generate_spv.h"
 #include "oas_generate_hash_only_spv.h"
 
 namespace oas {
 namespace {
 constexpr std::uint32_t kLocalSize = 64;          // local_size_x of oas_generate.comp
-constexpr std::uint32_t kDimsPerInvocation = 8;   // OAS_DIMS_PER_INVOCATION of oas_generate.comp
+constexpr std::uint32_t kGroupDims = 2;           // OAS_GROUP_DIMS of oas_generate.comp
 
 struct GenerateParams {  // the push-constant block of oas_generate.comp
     Pattern pattern;
     std::uint32_t x0, y0, width, spp, dims, seed, firstItem, itemCount, firstSample;
+    std::uint32_t samplesPerRun, groupsPerBlock, groups, chunkFirstPoint;
 };
-static_assert(sizeof(GenerateParams) == 100);
+static_assert(sizeof(GenerateParams) == 116);
+
+/// How the kernel splits a request: each invocation evaluates `samplesPerRun` consecutive samples
+/// of one pixel for `groupDims` dimensions (one OA block's), sharing the block and column state.
+struct Layout {
+    std::uint32_t samplesPerRun, groupsPerBlock, groups, runs;
+};
+
+/// Lavapipe (Mesa 22.3) silently ends an invocation's loops after 65535 iterations in all, so the
+/// run length is chosen from an upper bound on the loop iterations one value costs. The OA
+/// constructions' per-sample path is loop-free except for loops whose trip count the pattern
+/// fixes: Bush's t digits, CMJND's digit extraction (< d <= 24), binary-field products (k <= 15)
+/// and odd-extension-field arithmetic (~3k^2 per product, several per value). The baselines loop
+/// over digits (Halton) or bits (Sobol, (0,2)).
+std::uint32_t samplesPerRun(const Pattern& p)
+{
+    if (p.construction >= glsl::OAS_RANDOM) return 32;  // <= 64 digit or bit steps per value
+    if (p.fieldK > 1 && p.fieldP != 2) return 4;       // odd extension fields: up to ~2000 per value
+    return 128;                                        // <= ~100 per value, x 4 dims x 128 < 65535
+}
+
+Layout layoutFor(const Pattern& p, const SampleRequest& r)
+{
+    Layout l;
+    l.samplesPerRun = std::min(samplesPerRun(p), std::max(r.spp, 1u));
+    l.runs = (r.spp + l.samplesPerRun - 1) / l.samplesPerRun;
+    if (p.construction >= glsl::OAS_RANDOM) {
+        l.groupsPerBlock = 0;
+        l.groups = (r.dims + kGroupDims - 1) / kGroupDims;
+    } else {
+        const std::uint32_t blocks = (r.dims + p.blockDims - 1) / p.blockDims;
+        l.groupsPerBlock = (std::min(p.blockDims, r.dims) + kGroupDims - 1) / kGroupDims;
+        l.groups = blocks * l.groupsPerBlock;
+    }
+    return l;
+}
 }  // namespace
 
 GpuGenerator::GpuGenerator(vk::Context& context, bool hashOnly) : context_(context), hashOnly_(hashOnly) {}
@@ -29,8 +67,10 @@ vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
         const std::size_t bytes = hashOnly_ ? sizeof(oas_generate_hash_only_spv) : sizeof(oas_generate_spv);
         const vk::ComputePipeline::SpecConstants spec = {
             {0, std::get<0>(key)}, {1, std::get<1>(key)}, {2, std::get<2>(key)}};
+        const auto start = std::chrono::steady_clock::now();
         slot = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 2, std::uint32_t(sizeof(GenerateParams)),
                                                      hashOnly_ ? vk::ComputePipeline::SpecConstants{} : spec);
+        pipelineBuildSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     return *slot;
 }
@@ -43,24 +83,29 @@ std::uint64_t GpuGenerator::pointsPerDispatch(std::uint32_t dims) const
     // Cap a chunk at 64 MiB even where the device allows more: big enough to amortise a submit,
     // small enough that no single dispatch runs long (watchdogs on real GPUs).
     const std::uint64_t maxBytes = std::min<std::uint64_t>(limits.maxStorageBufferRange, 64ull << 20);
-    const std::uint64_t byBuffer = maxBytes / (std::uint64_t(dims) * sizeof(float));
-    const std::uint64_t groups = (dims + kDimsPerInvocation - 1) / kDimsPerInvocation;
-    const std::uint64_t byGroups = std::uint64_t(limits.maxComputeWorkGroupCount[0]) * kLocalSize *
-                                   std::min<std::uint32_t>(limits.maxComputeWorkGroupCount[1], 64) / groups;
-    std::uint64_t points = std::max<std::uint64_t>(1, std::min(byBuffer, byGroups));
+    std::uint64_t points = std::max<std::uint64_t>(1, maxBytes / (std::uint64_t(dims) * sizeof(float)));
     if (maxPointsPerDispatch_) points = std::min(points, maxPointsPerDispatch_);
     return points;
 }
 
 void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, float* out)
 {
-    const std::uint64_t groups = (r.dims + kDimsPerInvocation - 1) / kDimsPerInvocation;
-    const std::uint64_t totalPoints = std::uint64_t(r.width) * r.height * r.spp;
-    if (totalPoints * groups > 0xffffffffull)
-        throw InvalidArgument("width * height * spp * ceil(dims / 8) = " + std::to_string(totalPoints * groups) +
-                              " exceeds 2^32 - 1 work items; split the request");
-    const std::uint64_t chunk = std::min(totalPoints, pointsPerDispatch(r.dims));
-    const std::uint64_t chunkBytes = std::max<std::uint64_t>(chunk * r.dims * sizeof(float), 4);
+    const Layout layout = layoutFor(pattern, r);
+    const std::uint64_t pixels = std::uint64_t(r.width) * r.height;
+    const std::uint64_t totalPoints = pixels * r.spp;
+    const std::uint64_t totalRuns = pixels * layout.runs;
+    if (totalPoints > 0xffffffffull || totalRuns * layout.groups > 0xffffffffull)
+        throw InvalidArgument("width * height * spp = " + std::to_string(totalPoints) + " (" +
+                              std::to_string(totalRuns * layout.groups) +
+                              " work items) exceeds 2^32 - 1; split the request");
+    // Chunks are whole runs, so a chunk's points are contiguous in the output.
+    const auto& limits = context_.limits();
+    const std::uint64_t byGroupCount = std::uint64_t(limits.maxComputeWorkGroupCount[0]) * kLocalSize *
+                                       std::min<std::uint32_t>(limits.maxComputeWorkGroupCount[1], 64) / layout.groups;
+    const std::uint64_t runsPerChunk =
+        std::max<std::uint64_t>(1, std::min(pointsPerDispatch(r.dims) / layout.samplesPerRun, byGroupCount));
+    const std::uint64_t chunkBytes =
+        std::max<std::uint64_t>(std::min(runsPerChunk * layout.samplesPerRun, totalPoints) * r.dims * sizeof(float), 4);
     if (!buffer_ || buffer_->size() < chunkBytes) {
         buffer_.reset();
         buffer_ = std::make_unique<vk::Buffer>(context_, chunkBytes);
@@ -72,17 +117,26 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
     }
     vk::Buffer* buffers[] = {buffer_.get(), sobol_.get()};
     vk::ComputePipeline& pipeline = pipelineFor(pattern);
-    const std::uint32_t maxGroupsX = context_.limits().maxComputeWorkGroupCount[0];
-    for (std::uint64_t first = 0; first < totalPoints; first += chunk) {
-        const std::uint64_t points = std::min(chunk, totalPoints - first);
-        const auto items = std::uint32_t(points * groups);
-        GenerateParams params{pattern, r.x0, r.y0, r.width, r.spp, r.dims, r.seed,
-                              std::uint32_t(first * groups), items, r.firstSample};
+    const std::uint32_t maxGroupsX = limits.maxComputeWorkGroupCount[0];
+    // The output point where run `run` (counted over all pixels) starts.
+    auto pointOfRun = [&](std::uint64_t run) {
+        const std::uint64_t pixel = run / layout.runs;
+        return pixel * r.spp + (run - pixel * layout.runs) * layout.samplesPerRun;
+    };
+    for (std::uint64_t first = 0; first < totalRuns; first += runsPerChunk) {
+        const std::uint64_t runs = std::min(runsPerChunk, totalRuns - first);
+        const std::uint64_t firstPoint = pointOfRun(first);
+        const std::uint64_t endPoint = first + runs == totalRuns ? totalPoints : pointOfRun(first + runs);
+        const auto items = std::uint32_t(runs * layout.groups);
+        GenerateParams params{pattern, r.x0, r.y0, r.width, r.spp, r.dims, r.seed, std::uint32_t(first * layout.groups),
+                              items, r.firstSample, layout.samplesPerRun, layout.groupsPerBlock, layout.groups,
+                              std::uint32_t(firstPoint)};
         const std::uint32_t workGroups = (items + kLocalSize - 1) / kLocalSize;
         const std::uint32_t gx = std::min(workGroups, maxGroupsX);
         const std::uint32_t gy = (workGroups + gx - 1) / gx;
         context_.dispatch(pipeline, buffers, &params, sizeof(params), gx, gy);
-        if (out) std::memcpy(out + first * r.dims, buffer_->data(), std::size_t(points) * r.dims * sizeof(float));
+        if (out)
+            std::memcpy(out + firstPoint * r.dims, buffer_->data(), std::size_t(endPoint - firstPoint) * r.dims * sizeof(float));
     }
 }
 

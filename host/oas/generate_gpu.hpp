@@ -25,6 +25,8 @@ public:
     std::uint64_t pointsPerDispatch(std::uint32_t dims) const;
     /// Caps points per dispatch below the device limits (tests use it to cover chunk seams); 0: no cap.
     void setMaxPointsPerDispatch(std::uint64_t points) { maxPointsPerDispatch_ = points; }
+    /// Seconds spent building pipelines so far (one per specialisation, on first use).
+    double pipelineBuildSeconds() const { return pipelineBuildSeconds_; }
 
 private:
     void dispatchAll(const Pattern& pattern, const SampleRequest& request, float* out);
@@ -36,6 +38,7 @@ private:
     std::unique_ptr<vk::Buffer> buffer_;
     std::unique_ptr<vk::Buffer> sobol_;  ///< Sobol direction numbers (binding 1)
     std::uint64_t maxPointsPerDispatch_ = 0;
+    double pipelineBuildSeconds_ = 0;
 };
 
 }  // namespace oas

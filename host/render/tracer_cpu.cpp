@@ -23,6 +23,10 @@ using namespace glm;
 using namespace oas::pt;
 using oas::glsl::OasPattern;
 using oas::glsl::oas_sample;
+using oas::glsl::oas_row;
+using oas::glsl::oas_row_dim;
+using oas::glsl::OasRow;
+using oas::glsl::OAS_RANDOM;
 using uint = std::uint32_t;
 
 const uint PT_ABSENT = kAbsent;

@@ -39,6 +39,23 @@ uint oas_digit(OasPattern pat, uint row, uint col)
     return row - oas_div_s(pat, row) * pat.s;
 }
 
+/// The part of a column's levels that depends on the column alone: Addelman-Kempthorne's half-1
+/// constants, (k - 1) / (4 k m) for column 1+m (m != 0) and m^2 (k - 1) / 4 for column 1+q+m.
+/// Both need field inverses (a power loop), so they are made once per column (OasColumn), not
+/// per sample. 0 for every other construction and column.
+uint oas_oa_column_constant(OasPattern pat, uint col)
+{
+    if (OAS_CONSTRUCTION(pat) != OAS_ADDELMAN_KEMPTHORNE || col == 0u || col == 1u) return 0u;
+    OasField f = oas_pattern_field(pat);
+    uint q = pat.s;
+    uint k = pat.aux;
+    uint kMinus1 = oas_gf_add(f, k, oas_gf_neg(f, 1u));
+    uint four = oas_gf_int(f, 4u);
+    if (col <= q) return oas_gf_mul(f, kMinus1, oas_gf_inv(f, oas_gf_mul(f, four, oas_gf_mul(f, k, col - 1u))));
+    uint m = col - 1u - q;
+    return oas_gf_mul(f, oas_gf_mul(f, oas_gf_mul(f, m, m), kMinus1), oas_gf_inv(f, four));
+}
+
 /// Level (in [0, s)) of row `row` (< N), column `col` (< blockDims) of the un-randomized array.
 ///
 /// Bose: row = a*q + b -> columns (a, b, a + 1*b, a + 2*b, ..., a + (q-1)*b) over GF(q).
@@ -54,7 +71,8 @@ uint oas_digit(OasPattern pat, uint row, uint col)
 ///   (The half-1 constants make quadratic character sums cancel pair by pair; derivation in
 ///   docs/CONSTRUCTIONS.md.)
 /// CMJND: column j is base-s digit j of the row (the full factorial).
-uint oas_oa_level(OasPattern pat, uint row, uint col)
+/// `columnConstant` is oas_oa_column_constant(pat, col), which depends on the column only.
+uint oas_oa_level_with(OasPattern pat, uint row, uint col, uint columnConstant)
 {
     OasField f = oas_pattern_field(pat);
     uint q = pat.s;
@@ -79,27 +97,21 @@ uint oas_oa_level(OasPattern pat, uint row, uint col)
         uint h = oas_div_s(pat, hi);
         uint i = hi - h * q;
         if (col == 0u) return j;
-        uint k = pat.aux;
-        uint kMinus1 = oas_gf_add(f, k, oas_gf_neg(f, 1u));
-        uint four = oas_gf_int(f, 4u);
         if (col <= q) {
-            uint m = col - 1u;
-            uint v = oas_gf_add(f, i, oas_gf_mul(f, m, j));
-            if (h == 1u && m != 0u) {
-                // b_m = (k - 1) / (4 k m)
-                uint denom = oas_gf_mul(f, four, oas_gf_mul(f, k, m));
-                v = oas_gf_add(f, v, oas_gf_mul(f, kMinus1, oas_gf_inv(f, denom)));
-            }
-            return v;
+            uint v = oas_gf_add(f, i, oas_gf_mul(f, col - 1u, j));
+            return h == 1u ? oas_gf_add(f, v, columnConstant) : v;
         }
-        uint m = col - 1u - q;
-        uint quad = oas_gf_add(f, oas_gf_mul(f, i, i), oas_gf_mul(f, m, i));
+        uint quad = oas_gf_add(f, oas_gf_mul(f, i, i), oas_gf_mul(f, col - 1u - q, i));
         if (h == 0u) return oas_gf_add(f, quad, j);
-        // k i^2 + k m i + j + m^2 (k - 1) / 4
-        uint c = oas_gf_mul(f, oas_gf_mul(f, oas_gf_mul(f, m, m), kMinus1), oas_gf_inv(f, four));
-        return oas_gf_add(f, oas_gf_add(f, oas_gf_mul(f, k, quad), j), c);
+        return oas_gf_add(f, oas_gf_add(f, oas_gf_mul(f, pat.aux, quad), j), columnConstant);
     }
     return oas_digit(pat, row, col);  // OAS_CMJND
+}
+
+/// Level of row `row`, column `col` (oas_oa_level_with with the column's constant made here).
+uint oas_oa_level(OasPattern pat, uint row, uint col)
+{
+    return oas_oa_level_with(pat, row, col, oas_oa_column_constant(pat, col));
 }
 
 /// Index in [0, N/s) of row `row` among the rows that share its level in column `col`: a
@@ -155,6 +167,81 @@ const uint OAS_TAG_SUB = 0x165667b1u;
 const uint OAS_TAG_JITTER = 0x85ebca6bu;
 const uint OAS_TAG_PASS = 0xc2b2ae35u;
 
+/// Whether the pattern's s levels are the elements of a prime field GF(p), s = p (Bose, Bush and
+/// Addelman-Kempthorne over prime q). Their permutations are then the affine maps
+/// x -> a x + b mod p, a != 0: a sharply 2-transitive group, so every ordered pair of distinct
+/// levels lands on every ordered pair of distinct strata equally often over seeds. That is exactly
+/// what uniformly random permutations give pairs, and the variance of a randomized-OA estimate is
+/// a sum over pairs of points (Owen, "Orthogonal arrays for computer experiments, integration and
+/// visualization", Statistica Sinica 1992), so it is the same as with uniform permutations, at
+/// nine integer operations per value instead of oas_permutation_apply's ~90.
+bool oas_levels_form_prime_field(OasPattern pat)
+{
+    uint construction = OAS_CONSTRUCTION(pat);
+    return OAS_FIELD_IS_PRIME(oas_pattern_field(pat)) &&
+           (construction == OAS_BOSE || construction == OAS_BUSH || construction == OAS_ADDELMAN_KEMPTHORNE);
+}
+
+/// The affine permutation x -> a x + b mod p of GF(p) for `seed`, kept in an OasPermutation
+/// (key0 = a in [1, p), pivot0 = b in [0, p)); apply it with oas_affine_apply.
+OasPermutation oas_affine_permutation(uint p, uint seed)
+{
+    OasPermutation perm = oas_permutation(1u, 0u);
+    uint k = oas_pcg(seed);
+    perm.l = p;
+    perm.key0 = 1u + oas_mulhi(k, p - 1u);
+    perm.pivot0 = oas_mulhi(oas_pcg(k), p);
+    return perm;
+}
+
+/// a x + b mod p for x < p = s (a x + b < p^2 + p < 2^32 for the fields the host accepts).
+uint oas_affine_apply(OasPattern pat, OasPermutation perm, uint x)
+{
+    uint v = perm.key0 * x + perm.pivot0;
+    return v - oas_div_s(pat, v) * pat.s;
+}
+
+/// Whether a column's substrata [0, N/s) are GF(p) too: Bose over a prime field (N/s = q = p).
+bool oas_substrata_form_prime_field(OasPattern pat)
+{
+    return OAS_CONSTRUCTION(pat) == OAS_BOSE && OAS_FIELD_IS_PRIME(oas_pattern_field(pat));
+}
+
+// The permutations of a column's levels (level -> stratum) and substrata: affine where they form
+// a prime field, oas_permutation otherwise. The choice depends on the construction and field
+// kind only, so a shader specialised on them (OAS_STATIC_*) compiles one kind, not both.
+OasPermutation oas_strata_permutation(OasPattern pat, uint seed)
+{
+    if (oas_levels_form_prime_field(pat)) return oas_affine_permutation(pat.s, seed);
+    return oas_permutation(pat.s, seed);
+}
+
+uint oas_strata_permute(OasPattern pat, OasPermutation perm, uint level)
+{
+    if (oas_levels_form_prime_field(pat)) return oas_affine_apply(pat, perm, level);
+    return oas_permutation_apply(perm, level);
+}
+
+OasPermutation oas_sub_permutation(OasPattern pat, uint seed)
+{
+    if (oas_substrata_form_prime_field(pat)) return oas_affine_permutation(pat.s, seed);
+    return oas_permutation(pat.aux2, seed);
+}
+
+uint oas_sub_permute(OasPattern pat, OasPermutation perm, uint sublevel)
+{
+    if (oas_substrata_form_prime_field(pat)) return oas_affine_apply(pat, perm, sublevel);
+    return oas_permutation_apply(perm, sublevel);
+}
+
+/// The state of one (pixel, pass, block): what every sample of the pass shares in this block.
+/// Make it once (oas_block) and reuse it for all samples of the pass (oas_block_row).
+struct OasBlock {
+    uint seed;        ///< seed of this (pixel, pass, block)
+    uint firstIndex;  ///< the pass's first sample index (a multiple of N)
+    OasPermutation rows;  ///< sample index within the pass -> row of the shuffled OA
+};
+
 /// The per-sample state shared by all dimensions of one OA block: computing it once per block
 /// and reusing it across the block's dimensions is the fast path (oas_sample does both).
 struct OasRow {
@@ -163,45 +250,90 @@ struct OasRow {
     uint index;      ///< the sample index within its pass, in [0, N)
 };
 
+/// The state of one (pixel, pass, block, column): everything oas_row_dim computes that does not
+/// depend on the sample. Make it once (oas_column) and reuse it for every sample of the pass.
+struct OasColumn {
+    uint col;             ///< column within the block, < blockDims
+    uint seed;            ///< seed of this column
+    uint jitterSeed;      ///< seed of the in-stratum jitter
+    uint constant;        ///< oas_oa_column_constant
+    OasPermutation strata;  ///< level -> stratum
+    OasPermutation sub;     ///< sublevel -> substratum (CMJ; MJ draws one per level, per sample)
+};
+
 /// Pixel seed from integer pixel coordinates and a user seed (frame, render, ...).
 uint oas_pixel_seed(uint x, uint y, uint seed) { return oas_hash3(seed, x, y); }
 
-/// Row state of sample `index` for dimension block `block`. Indices >= N begin further passes:
-/// pass n uses an independent randomization of the same OA, so any number of samples is valid and
-/// every complete pass of N samples is itself stratified.
-OasRow oas_row(OasPattern pat, uint pixelSeed, uint index, uint block)
+/// Block state for the pass that holds sample `index` (any index: indices >= N begin further
+/// passes, each an independent randomization of the same OA, so any number of samples is valid
+/// and every complete pass of N samples is itself stratified). Valid for the N indices
+/// [firstIndex, firstIndex + N).
+OasBlock oas_block(OasPattern pat, uint pixelSeed, uint index, uint block)
 {
     uint seed = pixelSeed;
     uint pass = oas_div_n(pat, index);
-    if (pass != 0u) {
-        index -= pass * pat.N;
-        seed = oas_hash3(pixelSeed, pass, OAS_TAG_PASS);
-    }
+    if (pass != 0u) seed = oas_hash3(pixelSeed, pass, OAS_TAG_PASS);
+    OasBlock b;
+    b.seed = oas_hash2(seed, block);
+    b.firstIndex = pass * pat.N;
+    b.rows = oas_permutation(pat.N, b.seed ^ OAS_TAG_ROW);
+    return b;
+}
+
+/// Row state of sample `index` (in [b.firstIndex, b.firstIndex + N)) in block b.
+OasRow oas_block_row(OasBlock b, uint index)
+{
     OasRow r;
-    r.blockSeed = oas_hash2(seed, block);
-    r.index = index;
-    r.row = oas_permute(index, pat.N, r.blockSeed ^ OAS_TAG_ROW);
+    r.blockSeed = b.seed;
+    r.index = index - b.firstIndex;
+    r.row = oas_permutation_apply(b.rows, r.index);
     return r;
+}
+
+/// Row state of sample `index` for dimension block `block` (oas_block + oas_block_row).
+OasRow oas_row(OasPattern pat, uint pixelSeed, uint index, uint block)
+{
+    return oas_block_row(oas_block(pat, pixelSeed, index, block), index);
+}
+
+/// Column state of column `col` (< blockDims) for the block whose seed is `blockSeed`
+/// (OasBlock.seed or OasRow.blockSeed).
+OasColumn oas_column(OasPattern pat, uint blockSeed, uint col)
+{
+    OasColumn c;
+    c.col = col;
+    c.seed = oas_hash2(blockSeed, col);
+    c.jitterSeed = c.seed ^ OAS_TAG_JITTER;
+    c.constant = oas_oa_column_constant(pat, col);
+    c.strata = oas_strata_permutation(pat, c.seed ^ OAS_TAG_STRATUM);
+    // CMJ shares one substratum permutation per dimension (Kensler 2013), correlating the
+    // pattern for better 2D spectra; MJ draws a new one per stratum (Chiu, Shirley and Wang 1994).
+    c.sub = oas_sub_permutation(pat, c.seed ^ OAS_TAG_SUB);
+    return c;
+}
+
+/// The value of column c for the sample r, in [0, 1): dimension block * blockDims + c.col.
+float oas_column_dim(OasPattern pat, OasColumn c, OasRow r)
+{
+    uint level = oas_oa_level_with(pat, r.row, c.col, c.constant);
+    uint stratum = oas_strata_permute(pat, c.strata, level);
+    uint offset = OAS_OFFSET(pat);
+    uint shiftS = pat.recipShifts & 0xffu;
+    if (offset == OAS_OFFSET_CENTERED) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, 0x80000000u);
+    uint jitter = oas_hash2(c.jitterSeed, r.index);
+    if (offset == OAS_OFFSET_J) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, jitter);
+    uint subCount = pat.aux2;  // N / s
+    OasPermutation sub = c.sub;
+    if (offset == OAS_OFFSET_MJ) sub = oas_sub_permutation(pat, oas_hash2(c.seed ^ OAS_TAG_SUB, level));
+    uint substratum = oas_sub_permute(pat, sub, oas_oa_sublevel(pat, r.row, c.col));
+    return oas_stratum_point_fast(stratum * subCount + substratum, pat.N, pat.recipN, (pat.recipShifts >> 16u) & 0xffu,
+                                  jitter);
 }
 
 /// Dimension `col` (< blockDims) of the sample described by `r`, in [0, 1).
 float oas_row_dim(OasPattern pat, OasRow r, uint col)
 {
-    uint colSeed = oas_hash2(r.blockSeed, col);
-    uint level = oas_oa_level(pat, r.row, col);
-    uint stratum = oas_permute(level, pat.s, colSeed ^ OAS_TAG_STRATUM);
-    uint offset = OAS_OFFSET(pat);
-    uint shiftS = pat.recipShifts & 0xffu;
-    if (offset == OAS_OFFSET_CENTERED) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, 0x80000000u);
-    uint jitter = oas_hash2(colSeed ^ OAS_TAG_JITTER, r.index);
-    if (offset == OAS_OFFSET_J) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, jitter);
-    uint subCount = pat.aux2;  // N / s
-    // MJ draws a new substratum permutation for every stratum (Chiu, Shirley and Wang 1994);
-    // CMJ shares one per dimension (Kensler 2013), correlating the pattern for better 2D spectra.
-    uint subSeed = colSeed ^ OAS_TAG_SUB;
-    if (offset == OAS_OFFSET_MJ) subSeed = oas_hash2(subSeed, level);
-    uint sub = oas_permute(oas_oa_sublevel(pat, r.row, col), subCount, subSeed);
-    return oas_stratum_point_fast(stratum * subCount + sub, pat.N, pat.recipN, (pat.recipShifts >> 16u) & 0xffu, jitter);
+    return oas_column_dim(pat, oas_column(pat, r.blockSeed, col), r);
 }
 
 #endif // OAS_OA_GLSL

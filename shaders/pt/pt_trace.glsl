@@ -63,7 +63,27 @@ PtDims pt_group_dims(PtSampleState st, uint first, uint count)
 {
     PtDims d;
     for (uint k = 0u; k < PT_GROUP_MAX; ++k) d.u[k] = 0.0f;
-    for (uint k = 0u; k < count; ++k) d.u[k] = pt_dim(st, first + k);
+    OasPattern pat = pt_pattern();
+    if (OAS_CONSTRUCTION(pat) >= OAS_RANDOM) {
+        for (uint k = 0u; k < count; ++k) d.u[k] = pt_dim(st, first + k);
+        return d;
+    }
+    // The library's fast path: one row state (the block's row permutation) per OA block the group
+    // touches, shared by the group's dimensions in that block; the same values as oas_sample.
+    uint block = first / pat.blockDims;
+    uint col = first - block * pat.blockDims;
+    OasRow row;
+    for (uint k = 0u; k < count; ++k) {
+        if (k == 0u || col == pat.blockDims) {
+            if (k != 0u) {
+                block += 1u;
+                col = 0u;
+            }
+            row = oas_row(pat, st.seed, st.index, block);
+        }
+        d.u[k] = oas_row_dim(pat, row, col);
+        col += 1u;
+    }
     return d;
 }
 
