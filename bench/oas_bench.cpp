@@ -59,7 +59,8 @@ int main(int argc, char** argv)
     const std::vector<Row> rows = {
         {"bose", 121, 0, "cmj"},        {"bose", 121, 0, "mj"},        {"bose", 121, 0, "j"},
         {"bose", 64, 0, "cmj"}, {"bush", 125, 3, "mj"},      {"bose-bush", 128, 0, "cmj"},
-        {"addelman-kempthorne", 162, 0, "cmj"}, {"cmjnd", 256, 8, "cmj"}, {"random", 121, 0, "cmj"},
+        {"addelman-kempthorne", 98, 0, "cmj"}, {"addelman-kempthorne", 162, 0, "cmj"}, {"cmjnd", 256, 8, "cmj"},
+        {"random", 121, 0, "cmj"},
         {"jittered2d", 121, 0, "cmj"}, {"cmj2d", 121, 0, "cmj"},       {"zerotwo", 128, 0, "cmj"},
         {"halton", 121, 0, "cmj"},
     };

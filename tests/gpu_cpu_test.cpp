@@ -118,7 +118,7 @@ TEST_F(GpuCpu, ManyPixelsInSeveralDispatchChunks)
     r.spp = 121;
     r.dims = 29;  // three blocks of 12 columns, the last partial; 8-dim groups straddle blocks
     r.seed = 1;
-    // 1001 points per dispatch: chunk seams fall inside pixels and at odd work-item offsets.
+    // 1001 points per dispatch: chunks of 7 runs of 121 samples, seams at odd work-item offsets.
     gpu.setMaxPointsPerDispatch(1001);
     compare(gpu, pattern, r, "bose 121 x 1200 pixels x 29 dims in 1001-point chunks");
     // The default chunking of the same request must agree too.

@@ -27,6 +27,7 @@ using oas::glsl::oas_row;
 using oas::glsl::oas_row_dim;
 using oas::glsl::OasRow;
 using oas::glsl::OAS_RANDOM;
+using oas::glsl::oas_baseline_sample;
 using uint = std::uint32_t;
 
 const uint PT_ABSENT = kAbsent;

@@ -18,33 +18,65 @@
 //                                or uniform/storage buffer; its layout is 16 uints).
 //   uint  oas_pixel_seed(uint x, uint y, uint seed)              per-pixel seed
 //   float oas_sample(OasPattern p, uint pixelSeed, uint index, uint dim)
-//         Dimension `dim` of sample `index` of the pixel: a pure function, O(1) work, in [0, 1)
+//         Dimension `dim` of sample `index` of the pixel: a pure function, fixed work, in [0, 1)
 //         (never 1.0, never NaN), exactly inside the strata the construction promises.
-//   OasRow oas_row(OasPattern p, uint pixelSeed, uint index, uint block)
-//   float  oas_row_dim(OasPattern p, OasRow r, uint col)
-//         The same values, faster when you consume many dimensions of one OA block: dimension
-//         block * p.blockDims + col. (oas_sample = oas_row + oas_row_dim, or the baselines.)
+//   The same values, faster, from state made once and reused (the fast path):
+//   OasRow    oas_row(OasPattern p, uint pixelSeed, uint index, uint block)
+//   float     oas_row_dim(OasPattern p, OasRow r, uint col)
+//         per (sample, block), reused across the block's dimensions: dimension
+//         block * p.blockDims + col (oas_sample = oas_row + oas_row_dim, or the baselines);
+//   OasBlock  oas_block(OasPattern p, uint pixelSeed, uint index, uint block)
+//   OasColumn oas_column(OasPattern p, uint blockSeed, uint col)       blockSeed = OasBlock.seed
+//   OasRow    oas_block_row(OasBlock b, uint index)
+//   float     oas_column_dim(OasPattern p, OasColumn c, OasRow r)
+//         per (pixel, pass, block) and per (pixel, pass, block, column), reused across the N
+//         samples of a pass (indices [b.firstIndex, b.firstIndex + N)): seeds, permutation keys
+//         and field constants are made once, and each further value costs only its own work.
+//   OA constructions only (construction < OAS_RANDOM); baselines go through oas_sample.
 //
-// EXAMPLE (another renderer's path-tracing shader: one invocation per pixel and sample)
+// EXAMPLE 1 (another renderer's path-tracing shader: one invocation per pixel and sample)
 //   #extension GL_GOOGLE_include_directive : require
 //   #include "oas/oas.glsl"
 //   layout(push_constant) uniform Params { OasPattern pattern; uint frameSeed; uint spp; } params;
 //   ...
 //   uint pixel = gl_GlobalInvocationID.x, s = gl_GlobalInvocationID.y;   // s < params.spp
 //   uint seed = oas_pixel_seed(pixel % width, pixel / width, params.frameSeed);
-//   vec2 pixelJitter = vec2(oas_sample(params.pattern, seed, s, 0u),
-//                           oas_sample(params.pattern, seed, s, 1u));
-//   vec2 lensUV      = vec2(oas_sample(params.pattern, seed, s, 2u),
-//                           oas_sample(params.pattern, seed, s, 3u));
-//   ...
-//   Put paired dimensions on partner columns (0,1), (2,3), ... : Bose CMJ correlates those pairs.
-//   Give each sample its own invocation (or a few per invocation). Today's permutations loop
-//   (cycle walking, a data-dependent count), and lavapipe silently ends every invocation's loops
-//   after 65535 iterations in total: one invocation looping over 121 samples x 12 dims returned
-//   zeros from sample 33 on. Fetch the dimensions you need at one call site (a loop over them),
-//   not at every use: GPU compilers inline the whole sampler wherever it is called, which made a
-//   path tracer's pipeline build take 20 s on lavapipe instead of 1.5 s (shaders/pt/pt_trace.glsl,
-//   pt_group_dims).
+//   float u[4];                       // fetch the dimensions you need at one call site
+//   OasRow row = oas_row(params.pattern, seed, s, 0u);           // dims 0..3 in block 0
+//   for (uint d = 0u; d < 4u; ++d) u[d] = oas_row_dim(params.pattern, row, d);
+//   vec2 pixelJitter = vec2(u[0], u[1]);
+//   vec2 lensUV = vec2(u[2], u[3]);
+//   (with p.blockDims < 4, or for baselines, use oas_sample(params.pattern, seed, s, d))
+//
+// EXAMPLE 2 (one invocation per pixel, looping over its samples: the per-pass state is hoisted)
+//   OasBlock b = oas_block(params.pattern, seed, 0u, 0u);    // samples [0, N) of block 0
+//   OasColumn c0 = oas_column(params.pattern, b.seed, 0u);
+//   OasColumn c1 = oas_column(params.pattern, b.seed, 1u);
+//   for (uint s = 0u; s < params.pattern.N; ++s) {
+//       OasRow row = oas_block_row(b, s);
+//       vec2 pixelJitter = vec2(oas_column_dim(params.pattern, c0, row), oas_column_dim(params.pattern, c1, row));
+//       ...
+//   }
+//   (sample indices >= N begin a new pass: make its OasBlock and OasColumns for index N, 2N, ...)
+//
+// ADVICE
+//   - Put paired dimensions on partner columns (0,1), (2,3), ... : Bose CMJ correlates those pairs.
+//   - Specialise the shader on the pattern kind (OAS_STATIC_CONSTRUCTION / _OFFSET / _FIELD_KIND,
+//     e.g. from specialization constants, see oas_pattern.glsl). Lavapipe runs both sides of every
+//     branch, so an unspecialised shader pays for every construction's code, loops included.
+//   - Loops and lavapipe's cap. Lavapipe silently ends an invocation's loops after 65535
+//     iterations in all. Specialised, the per-sample path of Bose and Addelman-Kempthorne over
+//     prime fields, and of every permutation, is loop-free. The loops that remain have trip
+//     counts fixed by the pattern, the same in every lane: Bush's t digits, CMJND's digit
+//     extraction (up to d per value), binary-field products (k per product, several per value),
+//     odd-extension-field arithmetic (~3k^2 per product) and the baselines' digit and bit loops
+//     (Halton, Sobol, (0,2)). An invocation that evaluates many values of those patterns must
+//     keep (values x loop iterations per value) under 65535. tests/loop_cap_test.cpp evaluates
+//     8712 Bose values in one invocation.
+//   - Fetch the dimensions you need at one call site (a loop over them), not at every use: GPU
+//     compilers inline the whole sampler wherever it is called, which made a path tracer's
+//     pipeline build take 20 s on lavapipe instead of 1.5 s (shaders/pt/pt_trace.glsl,
+//     pt_group_dims).
 //
 // NUMERIC CONTRACT
 //   Outputs are F * 2^-24 with integer F in [0, 2^24). A point promised to stratum m of K strata
@@ -71,18 +103,24 @@
 #include "oas_oa.glsl"
 #include "oas_baselines.glsl"
 
+/// oas_sample for the baseline samplers alone (construction >= OAS_RANDOM): a caller that handles
+/// the OA constructions through the fast path calls this for the rest, so the OA code is compiled
+/// into its shader once, not twice.
+float oas_baseline_sample(OasPattern pat, uint pixelSeed, uint index, uint dim)
+{
+    uint seed = pixelSeed;
+    uint pass = oas_div_n(pat, index);
+    if (pass != 0u) {
+        index -= pass * pat.N;
+        seed = oas_hash3(pixelSeed, pass, OAS_TAG_PASS);
+    }
+    return oas_baseline_dim(pat, seed, index, dim);
+}
+
 /// Dimension `dim` of sample `index` for the pixel with seed `pixelSeed`. See the API above.
 float oas_sample(OasPattern pat, uint pixelSeed, uint index, uint dim)
 {
-    if (OAS_CONSTRUCTION(pat) >= OAS_RANDOM) {
-        uint seed = pixelSeed;
-        uint pass = oas_div_n(pat, index);
-        if (pass != 0u) {
-            index -= pass * pat.N;
-            seed = oas_hash3(pixelSeed, pass, OAS_TAG_PASS);
-        }
-        return oas_baseline_dim(pat, seed, index, dim);
-    }
+    if (OAS_CONSTRUCTION(pat) >= OAS_RANDOM) return oas_baseline_sample(pat, pixelSeed, index, dim);
     uint block = dim / pat.blockDims;
     OasRow r = oas_row(pat, pixelSeed, index, block);
     return oas_row_dim(pat, r, dim - block * pat.blockDims);

@@ -25,8 +25,6 @@ struct PtSampleState {
     uint index;
 };
 
-/// Dimension `dim` of the current sample, straight from the OA library (no sample buffers).
-float pt_dim(PtSampleState st, uint dim) { return oas_sample(pt_pattern(), st.seed, st.index, dim); }
 
 /// Most dimensions of one group: the camera's (pixel, lens, time: 6 with the alignment gap) or one
 /// path vertex's (light.uv, bsdf.uv, light.select, lobe, roulette: 8 with the gap).
@@ -56,7 +54,8 @@ uint pt_vertex_dims_used()
     return n;
 }
 
-/// Fetches a whole group at once. pt_radiance calls this at one site only: the GPU compiler
+/// Fetches a whole group at once, straight from the OA library (no sample buffers). pt_radiance
+/// calls this at one site only: the GPU compiler
 /// inlines the sampler wherever it is called, and with a call per use (a dozen in this file) the
 /// lavapipe pipeline build took ~20 s, against ~0.1 s with the sampler replaced by one hash.
 PtDims pt_group_dims(PtSampleState st, uint first, uint count)
@@ -65,7 +64,7 @@ PtDims pt_group_dims(PtSampleState st, uint first, uint count)
     for (uint k = 0u; k < PT_GROUP_MAX; ++k) d.u[k] = 0.0f;
     OasPattern pat = pt_pattern();
     if (OAS_CONSTRUCTION(pat) >= OAS_RANDOM) {
-        for (uint k = 0u; k < count; ++k) d.u[k] = pt_dim(st, first + k);
+        for (uint k = 0u; k < count; ++k) d.u[k] = oas_baseline_sample(pat, st.seed, st.index, first + k);
         return d;
     }
     // The library's fast path: one row state (the block's row permutation) per OA block the group
