@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <thread>
+#include <vector>
 
 #include "oas/glsl_compat.hpp"
 #include "render/tracer.hpp"
@@ -15,10 +16,54 @@ struct CpuContext {
     const SceneData* data;
     const DimensionPlan* plan;
     glsl::OasPattern pattern;
+    std::uint64_t generation;  ///< unique per context: keys the per-thread sample-state cache
 };
 thread_local const CpuContext* tContext = nullptr;
+std::atomic<std::uint64_t> gContextGeneration{0};
+
+CpuContext makeContext(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern)
+{
+    return {&data, &plan, glsl::toGlsl(pattern), ++gContextGeneration};
+}
+
+/// The library's per-pass state for the pixel a thread is tracing: the GPU kernel evaluates one
+/// sample per invocation, but this loop takes a pixel's samples one after another, so the block
+/// and column state (seeds, permutation keys, field constants) is made once per (pixel, pass)
+/// and each sample pays only for its rows and values: the same values as oas_row/oas_row_dim,
+/// bit for bit (the library defines one through the other).
+struct SampleStateCache {
+    std::uint64_t generation = 0;
+    std::uint32_t seed = 0, pass = 0;
+    std::vector<glsl::OasBlock> blocks;
+    std::vector<std::uint8_t> blockMade;
+    std::vector<glsl::OasRow> rows;  ///< per block: the row of sample `rowIndex[block]`
+    std::vector<std::uint32_t> rowIndex;
+    std::vector<std::uint8_t> rowMade;
+    std::vector<glsl::OasColumn> columns;  ///< per dimension
+    std::vector<std::uint8_t> columnMade;
+
+    void reset(const CpuContext& c, std::uint32_t pixelSeed, std::uint32_t passIndex)
+    {
+        generation = c.generation;
+        seed = pixelSeed;
+        pass = passIndex;
+        const std::uint32_t dims = c.plan->sampleDims, blockCount = dims / c.pattern.blockDims + 1;
+        blocks.resize(blockCount);
+        rows.resize(blockCount);
+        rowIndex.resize(blockCount);
+        columns.resize(dims);
+        blockMade.assign(blockCount, 0);
+        rowMade.assign(blockCount, 0);
+        columnMade.assign(dims, 0);
+    }
+};
+thread_local SampleStateCache tSamples;
 
 namespace shared {
+struct PtSampleState;
+struct PtDims;
+PtDims pt_cpu_group_dims(PtSampleState st, uint first, uint count);
+#define PT_FETCH_GROUP pt_cpu_group_dims
 using namespace glm;
 using namespace oas::pt;
 using oas::glsl::OasPattern;
@@ -60,6 +105,39 @@ OasPattern pt_pattern() { return tContext->pattern; }
 #pragma GCC diagnostic ignored "-Wunused-function"
 #include "pt/pt_trace.glsl"
 #pragma GCC diagnostic pop
+
+/// pt_group_dims for the CPU: the GLSL version's values through the cached per-pass state.
+PtDims pt_cpu_group_dims(PtSampleState st, uint first, uint count)
+{
+    PtDims d;
+    for (uint k = 0u; k < PT_GROUP_MAX; ++k) d.u[k] = 0.0f;
+    const glsl::OasPattern& pat = tContext->pattern;
+    if (pat.construction >= OAS_RANDOM || first + count > tContext->plan->sampleDims) {
+        for (uint k = 0u; k < count; ++k) d.u[k] = oas_sample(pat, st.seed, st.index, first + k);
+        return d;
+    }
+    SampleStateCache& c = tSamples;
+    const uint pass = glsl::oas_div_n(pat, st.index);
+    if (c.generation != tContext->generation || c.seed != st.seed || c.pass != pass) c.reset(*tContext, st.seed, pass);
+    for (uint k = 0u; k < count; ++k) {
+        const uint dim = first + k, block = dim / pat.blockDims;
+        if (!c.blockMade[block]) {
+            c.blocks[block] = glsl::oas_block(pat, st.seed, st.index, block);
+            c.blockMade[block] = 1;
+        }
+        if (!c.rowMade[block] || c.rowIndex[block] != st.index) {
+            c.rows[block] = glsl::oas_block_row(c.blocks[block], st.index);
+            c.rowIndex[block] = st.index;
+            c.rowMade[block] = 1;
+        }
+        if (!c.columnMade[dim]) {
+            c.columns[dim] = glsl::oas_column(pat, c.blocks[block].seed, dim - block * pat.blockDims);
+            c.columnMade[dim] = 1;
+        }
+        d.u[k] = glsl::oas_column_dim(pat, c.columns[dim], c.rows[block]);
+    }
+    return d;
+}
 }  // namespace shared
 static_assert(shared::PT_GROUP_MAX == kMaxGroupDims, "pt_trace.glsl and plan.hpp disagree on the group size");
 
@@ -70,7 +148,7 @@ namespace {
 class BoundContext {
 public:
     BoundContext(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern)
-        : context_{&data, &plan, glsl::toGlsl(pattern)}
+        : context_(makeContext(data, plan, pattern))
     {
         tContext = &context_;
     }
@@ -108,7 +186,7 @@ glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const P
 std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, const SampleBatch& b,
                        std::vector<float>& accumulation, unsigned threads)
 {
-    const CpuContext context{&data, &plan, glsl::toGlsl(pattern)};
+    const CpuContext context = makeContext(data, plan, pattern);
     const auto imageWidth = std::uint32_t(data.globals.image.x);
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     std::atomic<std::uint32_t> nextRow{0};

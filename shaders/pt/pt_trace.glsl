@@ -58,6 +58,11 @@ uint pt_vertex_dims_used()
 /// calls this at one site only: the GPU compiler
 /// inlines the sampler wherever it is called, and with a call per use (a dozen in this file) the
 /// lavapipe pipeline build took ~20 s, against ~0.1 s with the sampler replaced by one hash.
+#ifdef PT_FETCH_GROUP
+// The host's twin supplies its own fetch with the same values (host/render/tracer_cpu.cpp
+// caches the per-pass state across a pixel's samples).
+PtDims pt_group_dims(PtSampleState st, uint first, uint count) { return PT_FETCH_GROUP(st, first, count); }
+#else
 PtDims pt_group_dims(PtSampleState st, uint first, uint count)
 {
     PtDims d;
@@ -85,6 +90,8 @@ PtDims pt_group_dims(PtSampleState st, uint first, uint count)
     }
     return d;
 }
+
+#endif
 
 /// First dimension of vertex v's group (v = 1 is the first surface hit).
 uint pt_vertex_dim(uint v, uint offset) { return PT_DIM_VERTEX_BASE + (v - 1u) * PT_DIM_VERTEX_STRIDE + offset; }
