@@ -12,7 +12,7 @@ flags="-O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitiz
   -DOAS_BUILD_BENCHMARKS=OFF
 cmake --build build-asan -j "$(nproc)"
 # Tests that dispatch on the device (kept in one place: keep it in step with tests/).
-gpu_tests='^(VkSmoke|GpuCpu|RenderGpu|StudyGpu)\.|^CliTest\.Gpu'
+gpu_tests='^(VkSmoke|GpuCpu|RenderGpu|StudyGpu|LoopCap)\.|^CliTest\.Gpu'
 echo "sanitize: not run under ASan (they need lavapipe's JIT; the main suite runs them): $gpu_tests"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"

@@ -63,7 +63,7 @@ void main()
     uint block = 0u;
     uint firstCol = group * OAS_GROUP_DIMS;
     uint blockDims = params.dims;
-    if (OAS_CONSTRUCTION(params.pattern) < OAS_RANDOM) {
+    if (params.groupsPerBlock != 0u) {  // OA constructions (the hash-only kernel is not specialised)
         block = group / params.groupsPerBlock;
         firstCol = (group - block * params.groupsPerBlock) * OAS_GROUP_DIMS;
         blockDims = params.pattern.blockDims;
