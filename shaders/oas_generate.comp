@@ -26,7 +26,7 @@ layout(std430, binding = 1) readonly buffer SobolDirections { uint sobolDirectio
 #include "oas/oas.glsl"
 
 layout(local_size_x = 64) in;
-const uint OAS_GROUP_DIMS = 2u;  // keep equal to kGroupDims in generate_gpu.cpp
+const uint OAS_GROUP_DIMS = 2u;  // OA constructions; keep equal to kGroupDims in generate_gpu.cpp
 
 layout(push_constant) uniform GenerateParams {
     OasPattern pattern;
@@ -43,6 +43,7 @@ layout(push_constant) uniform GenerateParams {
     uint groupsPerBlock; // OAs: ceil(min(blockDims, dims) / OAS_GROUP_DIMS); baselines: 0
     uint groups;         // dimension groups per (pixel, run)
     uint chunkFirstPoint;  // pixel * spp + sample of the chunk's first output point
+    uint baselineGroupDims;  // baselines: dims per group (kBaselineGroupDims)
 } params;
 
 layout(std430, binding = 0) writeonly buffer Samples { float values[]; };
@@ -61,16 +62,18 @@ void main()
     uint seed = oas_pixel_seed(params.x0 + (pixel - py * params.width), params.y0 + py, params.seed);
     // Dimensions [firstDim, firstDim + groupDims): within one OA block for the OA constructions.
     uint block = 0u;
-    uint firstCol = group * OAS_GROUP_DIMS;
+    uint groupSize = params.baselineGroupDims;
+    uint firstCol = group * groupSize;
     uint blockDims = params.dims;
     if (params.groupsPerBlock != 0u) {  // OA constructions (the hash-only kernel is not specialised)
         block = group / params.groupsPerBlock;
+        groupSize = OAS_GROUP_DIMS;
         firstCol = (group - block * params.groupsPerBlock) * OAS_GROUP_DIMS;
         blockDims = params.pattern.blockDims;
     }
     uint firstDim = block * blockDims + firstCol;
     if (firstDim >= params.dims || firstCol >= blockDims) return;
-    uint groupDims = min(OAS_GROUP_DIMS, min(blockDims - firstCol, params.dims - firstDim));
+    uint groupDims = min(groupSize, min(blockDims - firstCol, params.dims - firstDim));
     uint firstRunSample = run * params.samplesPerRun;  // relative to params.firstSample
     uint count = min(params.samplesPerRun, params.spp - firstRunSample);
     // Output offset relative to the chunk, which starts at a whole run (see generate_gpu.cpp).

@@ -11,14 +11,17 @@
 namespace oas {
 namespace {
 constexpr std::uint32_t kLocalSize = 64;          // local_size_x of oas_generate.comp
-constexpr std::uint32_t kGroupDims = 2;           // OAS_GROUP_DIMS of oas_generate.comp
+constexpr std::uint32_t kGroupDims = 2;           // OAS_GROUP_DIMS of oas_generate.comp (OAs)
+// Baselines: one sample x 8 dims per invocation, so neighbouring lanes take the same dimensions
+// of neighbouring samples and Halton's per-base digit loop runs the same count in every lane.
+constexpr std::uint32_t kBaselineGroupDims = 8;
 
 struct GenerateParams {  // the push-constant block of oas_generate.comp
     Pattern pattern;
     std::uint32_t x0, y0, width, spp, dims, seed, firstItem, itemCount, firstSample;
-    std::uint32_t samplesPerRun, groupsPerBlock, groups, chunkFirstPoint;
+    std::uint32_t samplesPerRun, groupsPerBlock, groups, chunkFirstPoint, baselineGroupDims;
 };
-static_assert(sizeof(GenerateParams) == 116);
+static_assert(sizeof(GenerateParams) == 120);
 
 /// How the kernel splits a request: each invocation evaluates `samplesPerRun` consecutive samples
 /// of one pixel for `groupDims` dimensions (one OA block's), sharing the block and column state.
@@ -34,7 +37,7 @@ struct Layout {
 /// over digits (Halton) or bits (Sobol, (0,2)).
 std::uint32_t samplesPerRun(const Pattern& p)
 {
-    if (p.construction >= glsl::OAS_RANDOM) return 32;  // <= 64 digit or bit steps per value
+    if (p.construction >= glsl::OAS_RANDOM) return 1;   // see kBaselineGroupDims
     if (p.fieldK > 1 && p.fieldP != 2) return 4;       // odd extension fields: up to ~2000 per value
     return 128;                                        // <= ~100 per value, x 4 dims x 128 < 65535
 }
@@ -46,7 +49,7 @@ Layout layoutFor(const Pattern& p, const SampleRequest& r)
     l.runs = (r.spp + l.samplesPerRun - 1) / l.samplesPerRun;
     if (p.construction >= glsl::OAS_RANDOM) {
         l.groupsPerBlock = 0;
-        l.groups = (r.dims + kGroupDims - 1) / kGroupDims;
+        l.groups = (r.dims + kBaselineGroupDims - 1) / kBaselineGroupDims;
     } else {
         const std::uint32_t blocks = (r.dims + p.blockDims - 1) / p.blockDims;
         l.groupsPerBlock = (std::min(p.blockDims, r.dims) + kGroupDims - 1) / kGroupDims;
@@ -130,7 +133,7 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
         const auto items = std::uint32_t(runs * layout.groups);
         GenerateParams params{pattern, r.x0, r.y0, r.width, r.spp, r.dims, r.seed, std::uint32_t(first * layout.groups),
                               items, r.firstSample, layout.samplesPerRun, layout.groupsPerBlock, layout.groups,
-                              std::uint32_t(firstPoint)};
+                              std::uint32_t(firstPoint), kBaselineGroupDims};
         const std::uint32_t workGroups = (items + kLocalSize - 1) / kLocalSize;
         const std::uint32_t gx = std::min(workGroups, maxGroupsX);
         const std::uint32_t gy = (workGroups + gx - 1) / gx;
