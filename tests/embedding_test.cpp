@@ -208,6 +208,79 @@ TEST(Embedding, OtherRendererShaderCompilesWithGlslang)
     EXPECT_EQ(magic, 0x07230203u) << "not a SPIR-V module";
 }
 
+/// Runs glslangValidator on a shader text; returns (exit status 0?, its output).
+std::pair<bool, std::string> compileText(const std::string& text)
+{
+    const std::string stem = "oas_embed_" + std::to_string(::getpid());
+    const fs::path source = fs::temp_directory_path() / (stem + ".comp");
+    const fs::path spv = fs::temp_directory_path() / (stem + ".spv");
+    {
+        std::FILE* f = std::fopen(source.c_str(), "w");
+        if (!f) return {false, "cannot write " + source.string()};
+        std::fputs(text.c_str(), f);
+        std::fclose(f);
+    }
+    const std::string command = shellQuote(OAS_GLSLANG) + " --target-env vulkan1.1 -I" + shellQuote(OAS_SHADER_DIR) +
+                                " -o " + shellQuote(spv.string()) + " " + shellQuote(source.string()) + " 2>&1";
+    std::FILE* pipe = ::popen(command.c_str(), "r");
+    std::string output;
+    if (pipe) {
+        char buf[4096];
+        for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) output.append(buf, n);
+    }
+    const int status = pipe ? ::pclose(pipe) : -1;
+    std::error_code ec;
+    fs::remove(source, ec);
+    fs::remove(spv, ec);
+    return {WIFEXITED(status) && WEXITSTATUS(status) == 0, output};
+}
+
+TEST(Embedding, SobolWithoutDirectionNumbersIsACompileError)
+{
+    // The Sobol baseline needs its direction numbers from the includer; without them it used to
+    // fall back to random values silently. Now the includer must choose.
+    const std::string head = "#version 450\n#extension GL_GOOGLE_include_directive : require\n";
+    const std::string body = "#include \"oas/oas.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() {}\n";
+    const auto [neither, message] = compileText(head + body);
+    EXPECT_FALSE(neither) << "compiled without OAS_SOBOL_DIRECTION or OAS_NO_SOBOL";
+    EXPECT_NE(message.find("OAS_SOBOL_DIRECTION"), std::string::npos) << message;
+    const auto [optedOut, optedOutMessage] = compileText(head + "#define OAS_NO_SOBOL\n" + body);
+    EXPECT_TRUE(optedOut) << optedOutMessage;
+    const auto [withTable, withTableMessage] = compileText(
+        head + "layout(std430, binding = 0) readonly buffer D { uint d[]; };\n"
+               "#define OAS_SOBOL_DIRECTION(dim, bit) d[(dim) * 32u + (bit)]\n" + body);
+    EXPECT_TRUE(withTable) << withTableMessage;
+}
+
+TEST(Embedding, TheHeaderListsExactlyTheMacroNamesThatBreakIt)
+{
+    // The header's list of names an includer must not have as object-like macros is checked
+    // both ways: each listed name breaks the include, and common renderer macros outside the list
+    // (a sample of them) do not. A rename that makes a name safe must update the header.
+    const std::vector<std::string> listed = {"N", "K", "i", "j", "k", "l", "m", "n", "p", "q", "r", "s", "t", "u", "v", "x", "y", "seed", "index", "offset", "dim", "pass", "row", "col", "level", "block", "key", "hi", "lo", "bits", "mask", "shift", "f", "g", "a", "b", "c", "d", "e", "h", "sub", "rotation", "pivot", "partner", "stratum", "jitter", "base", "digit", "power", "construction", "strength", "aux", "fieldP"};
+    const std::vector<std::string> safe = {"M", "L", "S", "T", "P", "Q", "R", "A", "B", "C", "D", "E", "F", "G", "H", "I", "J", "U", "V", "W", "X", "Y", "Z", "w", "z", "count", "PI", "EPS", "ONE", "ZERO", "MAX", "MIN", "value", "sum"};
+    // The header's list: the words between "glslangValidator):" and "Undefine", minus "//".
+    const std::string header = readFile(fs::path(OAS_SHADER_DIR) / "oas" / "oas.glsl");
+    const std::size_t from = header.find("glslangValidator):"), to = header.find("Undefine", from);
+    ASSERT_NE(from, std::string::npos);
+    ASSERT_NE(to, std::string::npos);
+    std::vector<std::string> documented;
+    {
+        std::istringstream words(header.substr(from + 18, to - from - 18));
+        for (std::string w; words >> w;)
+            if (w != "//") documented.push_back(w);
+    }
+    EXPECT_EQ(documented, listed) << "the header's list and this test's differ";
+    const std::string shader = "#version 450\n#extension GL_GOOGLE_include_directive : require\n#define OAS_NO_SOBOL\n";
+    const std::string body = "#include \"oas/oas.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() {}\n";
+    for (const std::string& name : listed) {
+        EXPECT_FALSE(compileText(shader + "#define " + name + " 7u\n" + body).first)
+            << "#define " << name << " no longer breaks the include: drop it from the header's list";
+    }
+    for (const std::string& name : safe)
+        EXPECT_TRUE(compileText(shader + "#define " + name + " 7u\n" + body).first) << "#define " << name << " breaks the include";
+}
+
 // ------------------------------------------------------------------------------- scan the files
 
 TEST(Embedding, LibraryFilesDeclareOnlyPrefixedNamesAndNoInterface)

@@ -73,6 +73,22 @@ TEST(Permutation, EveryInputIsUniformOverSeeds)
     }
 }
 
+TEST(MulHi, PortableLimbsEqualThe64BitProduct)
+{
+    // The OAS_MULHI fallback for targets without umulExtended must agree everywhere: edge words
+    // (carries out of every 16-bit column) and random pairs.
+    std::vector<std::uint32_t> edges = {0u, 1u, 2u, 0xffffu, 0x10000u, 0x10001u, 0x7fffffffu, 0x80000000u,
+                                        0x80000001u, 0xfffeffffu, 0xffff0000u, 0xfffffffeu, 0xffffffffu};
+    for (std::uint32_t a : edges)
+        for (std::uint32_t b : edges)
+            ASSERT_EQ(oas_mulhi_portable(a, b), std::uint32_t((std::uint64_t(a) * b) >> 32)) << a << " * " << b;
+    std::mt19937 rng(99);
+    for (int i = 0; i < 1000000; ++i) {
+        const std::uint32_t a = rng(), b = rng();
+        ASSERT_EQ(oas_mulhi_portable(a, b), std::uint32_t((std::uint64_t(a) * b) >> 32)) << a << " * " << b;
+    }
+}
+
 TEST(FastDivision, EqualsHardwareDivision)
 {
     std::mt19937 rng(12345);

@@ -11,6 +11,17 @@
 //   needs GL_GOOGLE_include_directive (or paste the files in). Every public name starts with
 //   oas_, Oas or OAS_. It is plain GLSL 4.50 integer code: no 64-bit types, no float division.
 //   The same files compile as C++ (host/oas/glsl_compat.hpp), so the CPU reference is this code.
+//   Before including, define either OAS_SOBOL_DIRECTION(dim, bit) (the Sobol baseline reads its
+//   direction numbers through it: oas::sobolDirections() on the host, in a buffer) or
+//   OAS_NO_SOBOL (the shader never receives a Sobol pattern); with neither it is a compile error.
+//   Targets without umulExtended may define OAS_MULHI(a, b), e.g. as oas_mulhi_portable.
+//   Macros: the library's struct members, parameters and locals are short names, so an
+//   object-like macro of the includer with one of these names, defined before the include,
+//   breaks it (tests/embedding_test.cpp checks this list against glslangValidator):
+//     N K i j k l m n p q r s t u v x y seed index offset dim pass row col level block key hi lo
+//     bits mask shift f g a b c d e h sub rotation pivot partner stratum jitter base digit power
+//     construction strength aux fieldP
+//   Undefine them around the include, or include oas.glsl first.
 //
 // API
 //   struct OasPattern            64-byte descriptor; make it on the host with oas::makePattern
@@ -36,6 +47,7 @@
 //
 // EXAMPLE 1 (another renderer's path-tracing shader: one invocation per pixel and sample)
 //   #extension GL_GOOGLE_include_directive : require
+//   #define OAS_NO_SOBOL
 //   #include "oas/oas.glsl"
 //   layout(push_constant) uniform Params { OasPattern pattern; uint frameSeed; uint spp; } params;
 //   ...

@@ -64,6 +64,9 @@ const uint OAS_HALTON_BLOCK = 32u;
 /// many; further dimensions start new blocks with shuffled indices and fresh scrambling.
 const uint OAS_SOBOL_BLOCK = 64u;
 
+#if !defined(OAS_SOBOL_DIRECTION) && !defined(OAS_NO_SOBOL)
+#error "oas.glsl: define OAS_SOBOL_DIRECTION(dim, bit) (the Sobol baseline's direction numbers, oas::sobolDirections() on the host) or OAS_NO_SOBOL (this shader never gets a Sobol pattern) before including oas.glsl"
+#endif
 #ifdef OAS_SOBOL_DIRECTION
 /// Sobol point `index`, dimension `dim` < OAS_SOBOL_BLOCK, as a 32-bit fraction. Direction numbers
 /// are data, not computable on the fly: a shader that wants the Sobol baseline defines
@@ -104,14 +107,18 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
         uint dimSeed = oas_hash2(blockSeed, dim);
         // Digits of i, least significant first, each through its own random permutation
         // (random-digit-permutation Halton); enough digits to tell all N indices apart, capped
-        // where base^digits would pass 2^24 (the exact fixed-point limit).
+        // where base^digits would pass 2^24 (the exact fixed-point limit). The bases are prime, so
+        // the permutations are the affine maps d -> a d + b mod base (a != 0), the sharply
+        // 2-transitive family (see oas_levels_form_prime_field): the pair statistics, and so the
+        // variance, of uniformly random digit permutations, for one multiply and one remainder.
         uint strata = 1u;
         uint m = 0u;
         uint digitIndex = 0u;
         while (strata < pat.N && strata <= OAS_ONE_FIXED / base) {
             uint d = i % base;
             i /= base;
-            uint pd = oas_permute(d, base, oas_hash2(dimSeed, digitIndex));
+            uint key = oas_hash2(dimSeed, digitIndex);
+            uint pd = ((1u + oas_mulhi(key, base - 1u)) * d + oas_mulhi(oas_pcg(key), base)) % base;
             m = m * base + pd;  // digit k lands at base^-(k+1): reversed order builds m
             strata *= base;
             digitIndex += 1u;

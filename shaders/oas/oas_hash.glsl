@@ -25,13 +25,34 @@ uint oas_hash2(uint a, uint b) { return oas_pcg(a ^ oas_pcg(b + 0x9e3779b9u)); }
 /// Hash of three words.
 uint oas_hash3(uint a, uint b, uint c) { return oas_hash2(oas_hash2(a, b), c); }
 
-/// High 32 bits of the 64-bit product a*b (exact; no 64-bit types needed).
+/// High 32 bits of the 64-bit product a*b from 16-bit limbs: for targets without umulExtended
+/// (WGSL, some shading-language translators). Define OAS_MULHI as oas_mulhi_portable there.
+uint oas_mulhi_portable(uint a, uint b)
+{
+    uint aLo = a & 0xffffu;
+    uint aHi = a >> 16u;
+    uint bLo = b & 0xffffu;
+    uint bHi = b >> 16u;
+    uint lowLow = aLo * bLo;
+    uint cross1 = aHi * bLo;
+    uint cross2 = aLo * bHi;
+    // The middle column: the carry out of the low 32 bits, summed without overflow.
+    uint middle = (lowLow >> 16u) + (cross1 & 0xffffu) + (cross2 & 0xffffu);
+    return aHi * bHi + (cross1 >> 16u) + (cross2 >> 16u) + (middle >> 16u);
+}
+
+/// High 32 bits of the 64-bit product a*b (exact; no 64-bit types needed). An includer may define
+/// OAS_MULHI(a, b) to supply its own (for instance oas_mulhi_portable).
 uint oas_mulhi(uint a, uint b)
 {
+#ifdef OAS_MULHI
+    return OAS_MULHI(a, b);
+#else
     uint hi;
     uint lo;
     umulExtended(a, b, hi, lo);
     return hi;
+#endif
 }
 
 /// floor(x / d) for any 32-bit x, by a multiply-high and shifts instead of a hardware divide

@@ -12,6 +12,7 @@ layout(constant_id = 2) const uint specFieldKind = 0u;
 #define OAS_STATIC_CONSTRUCTION specConstruction
 #define OAS_STATIC_OFFSET specOffset
 #define OAS_STATIC_FIELD_KIND specFieldKind
+#define OAS_NO_SOBOL  // this shader never gets a Sobol pattern
 #include "oas/oas.glsl"
 
 layout(local_size_x = 8) in;

@@ -72,6 +72,7 @@ Pattern renderPattern;  // a renderer global of its own struct type
 uint rngState;
 
 // ---- the library ---------------------------------------------------------------------------
+#define OAS_NO_SOBOL  // this shader never gets a Sobol pattern
 #include "oas/oas.glsl"
 
 // ---- the renderer's interface ----------------------------------------------------------------
