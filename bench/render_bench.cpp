@@ -26,15 +26,27 @@ struct Result {
     double buildSeconds;  ///< pipeline build (process start to first dispatch is about this)
 };
 
+/// What one render of `scene` with `sampler` at `spp` needs: its dimension plan, flattened data
+/// and the sampler's pattern for the plan's dimensions.
+struct Setup {
+    oas::render::DimensionPlan plan;
+    oas::render::SceneData data;
+    oas::Pattern pattern;
+    Setup(const oas::scene::Scene& scene, const std::string& sampler, std::uint32_t spp)
+        : plan(oas::render::planDimensions(scene)), data(oas::render::flattenScene(scene))
+    {
+        oas::PatternRequest request;
+        request.sampler = sampler;
+        request.spp = spp;
+        request.dims = plan.sampleDims;
+        pattern = oas::makePattern(request);
+    }
+};
+
 Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const std::string& sampler, std::uint32_t spp)
 {
-    const auto plan = oas::render::planDimensions(scene);
-    const auto data = oas::render::flattenScene(scene);
-    oas::PatternRequest request;
-    request.sampler = sampler;
-    request.spp = spp;
-    request.dims = plan.sampleDims;
-    const auto pattern = oas::makePattern(request);
+    const Setup setup(scene, sampler, spp);
+    const auto& [plan, data, pattern] = setup;
     oas::render::GpuTracer tracer(context, data, plan, pattern);  // pipeline compile: not timed
     oas::render::SampleBatch batch;
     batch.width = scene.width;
@@ -53,13 +65,8 @@ Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const 
 /// The CPU reference tracer on every core, the whole image at all spp in one batch.
 Result measureCpu(const oas::scene::Scene& scene, const std::string& sampler, std::uint32_t spp)
 {
-    const auto plan = oas::render::planDimensions(scene);
-    const auto data = oas::render::flattenScene(scene);
-    oas::PatternRequest request;
-    request.sampler = sampler;
-    request.spp = spp;
-    request.dims = plan.sampleDims;
-    const auto pattern = oas::makePattern(request);
+    const Setup setup(scene, sampler, spp);
+    const auto& [plan, data, pattern] = setup;
     oas::render::SampleBatch batch;
     batch.width = scene.width;
     batch.height = scene.height;

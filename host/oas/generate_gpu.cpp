@@ -39,7 +39,7 @@ std::uint32_t samplesPerRun(const Pattern& p)
 {
     if (p.construction >= glsl::OAS_RANDOM) return 1;   // see kBaselineGroupDims
     if (p.fieldK > 1 && p.fieldP != 2) return 4;       // odd extension fields: up to ~2000 per value
-    return 128;                                        // <= ~100 per value, x 4 dims x 128 < 65535
+    return 128;                                        // <= ~100 per value, x 2 dims x 128 < 65535
 }
 
 Layout layoutFor(const Pattern& p, const SampleRequest& r)

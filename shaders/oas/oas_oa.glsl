@@ -186,11 +186,20 @@ bool oas_levels_form_prime_field(OasPattern pat)
 /// (key0 = a in [1, p), pivot0 = b in [0, p)); apply it with oas_affine_apply.
 OasPermutation oas_affine_permutation(uint p, uint seed)
 {
-    OasPermutation perm = oas_permutation(1u, 0u);
     uint k = oas_pcg(seed);
+    OasPermutation perm;
     perm.l = p;
+    perm.mask = 0u;
+    perm.shift = 0u;
     perm.key0 = 1u + oas_mulhi(k, p - 1u);
+    perm.key1 = 0u;
+    perm.key2 = 0u;
+    perm.key3 = 0u;
     perm.pivot0 = oas_mulhi(oas_pcg(k), p);
+    perm.pivot1 = 0u;
+    perm.pivot2 = 0u;
+    perm.pivot3 = 0u;
+    perm.rotation = 0u;
     return perm;
 }
 
