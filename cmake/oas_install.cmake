@@ -1,0 +1,32 @@
+# install() rules and the oas CMake package: find_package(oas) then gives oas::glsl,
+# oas::pattern_c and oas::pattern, plus OAS_GLSL_INCLUDE_DIR and OAS_SINGLE_GLSL.
+# Headers, the GLSL library and the single-file include all land in <prefix>/include/oas/, so one
+# include directory serves #include "oas/pattern.hpp" and #include "oas/oas.glsl" alike.
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set(OAS_CMAKE_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/oas)
+install(TARGETS oas_glsl oas_pattern_c oas_pattern EXPORT oasTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/host/oas/oas_pattern.h ${PROJECT_SOURCE_DIR}/host/oas/oas_pattern.c
+              ${PROJECT_SOURCE_DIR}/host/oas/pattern.hpp ${PROJECT_SOURCE_DIR}/host/oas/glsl_compat.hpp
+              ${OAS_GLSL_SOURCES} ${OAS_SINGLE_GLSL}
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/oas)
+install(EXPORT oasTargets NAMESPACE oas:: DESTINATION ${OAS_CMAKE_INSTALL_DIR})
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/oasConfig.cmake.in
+                              ${PROJECT_BINARY_DIR}/oasConfig.cmake
+                              INSTALL_DESTINATION ${OAS_CMAKE_INSTALL_DIR}
+                              PATH_VARS CMAKE_INSTALL_INCLUDEDIR)
+# 0.x: a minor version may change the samples (docs/PATTERN.md), so only the same minor matches.
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/oasConfigVersion.cmake
+                                 COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/oasConfig.cmake ${PROJECT_BINARY_DIR}/oasConfigVersion.cmake
+        DESTINATION ${OAS_CMAKE_INSTALL_DIR})
+install(FILES ${PROJECT_SOURCE_DIR}/docs/PATTERN.md ${PROJECT_SOURCE_DIR}/tests/golden/patterns.json
+        DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
+if(OAS_BUILD_TOOLS)
+  install(TARGETS oas-samples oas-render oas-diff oas-study RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()

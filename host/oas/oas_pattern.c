@@ -1,0 +1,374 @@
+/* oas_pattern.c - the pattern builder behind oas_pattern.h (C99). Every value choice that changes
+ * the samples is made here, once, and docs/PATTERN.md specifies each of them. */
+#include "oas_pattern.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+/* ---- small integer helpers ------------------------------------------------------------------- */
+
+static int oasp_is_prime(uint32_t n)
+{
+    uint32_t d;
+    if (n < 2) return 0;
+    for (d = 2; d * d <= n; ++d)
+        if (n % d == 0) return 0;
+    return 1;
+}
+
+/* base^exponent, or 0 when it exceeds limit. */
+static uint32_t oasp_pow_capped(uint32_t base, uint32_t exponent, uint32_t limit)
+{
+    uint64_t v = 1;
+    uint32_t i;
+    for (i = 0; i < exponent; ++i) {
+        v *= base;
+        if (v > limit) return 0;
+    }
+    return (uint32_t)v;
+}
+
+/* The largest r with r^t <= n (t >= 1, n >= 1): exact integer roots, no floating point. */
+static uint32_t oasp_integer_root(uint32_t n, uint32_t t)
+{
+    uint32_t lo = 1, hi = n;
+    if (t == 1) return n;
+    if (hi > 65536) hi = 65536; /* t >= 2 and n < 2^32 */
+    while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo + 1) / 2;
+        if (oasp_pow_capped(mid, t, n) != 0) lo = mid; else hi = mid - 1;
+    }
+    return lo;
+}
+
+static void oasp_say(char* why, size_t whyLen, const char* format, ...)
+{
+    va_list args;
+    if (why == NULL || whyLen == 0) return;
+    va_start(args, format);
+    vsnprintf(why, whyLen, format, args);
+    va_end(args);
+}
+
+int oas_prime_power(uint32_t q, uint32_t* p, uint32_t* k)
+{
+    uint32_t smallest = 2, v, count = 0;
+    if (q < 2) return 0;
+    while (q % smallest != 0) ++smallest;
+    for (v = q; v % smallest == 0; v /= smallest) ++count;
+    if (v != 1) return 0;
+    if (p) *p = smallest;
+    if (k) *k = count;
+    return 1;
+}
+
+void oas_divisor(uint32_t d, uint32_t* recip, uint32_t* shift)
+{
+    uint32_t l = 0;
+    if (d == 0) d = 1; /* documented precondition; keep the result defined */
+    while (((uint64_t)1 << l) < d) ++l; /* ceil(log2 d) */
+    *recip = (uint32_t)((((uint64_t)1 << 32) * (((uint64_t)1 << l) - d)) / d + 1);
+    *shift = l;
+}
+
+/* ---- GF(p^k): elements are integers whose base-p digits are polynomial coefficients ---------- */
+
+typedef struct {
+    uint32_t p, k, q, g; /* x^k == g(x) */
+} OaspField;
+
+/* y + c * a, digit by digit mod p. */
+static uint32_t oasp_axpy(const OaspField* f, uint32_t y, uint32_t a, uint32_t c)
+{
+    uint32_t r = 0, place = 1, i;
+    for (i = 0; i < f->k; ++i) {
+        r += ((y % f->p + c * (a % f->p)) % f->p) * place;
+        place *= f->p;
+        y /= f->p;
+        a /= f->p;
+    }
+    return r;
+}
+
+/* a * x reduced by x^k = g(x). */
+static uint32_t oasp_mulx(const OaspField* f, uint32_t a)
+{
+    const uint32_t topPlace = f->q / f->p;
+    const uint32_t top = a / topPlace;
+    return oasp_axpy(f, (a % topPlace) * f->p, f->g, top);
+}
+
+/* a * b by Horner's rule over b's digits, most significant first. */
+static uint32_t oasp_mul(const OaspField* f, uint32_t a, uint32_t b)
+{
+    uint32_t r = 0, place = f->q / f->p, i;
+    for (i = 0; i < f->k; ++i, place /= f->p) r = oasp_axpy(f, oasp_mulx(f, r), a, (b / place) % f->p);
+    return r;
+}
+
+static uint32_t oasp_pow(const OaspField* f, uint32_t a, uint32_t e)
+{
+    uint32_t result = 1;
+    for (; e != 0; e >>= 1) {
+        if (e & 1u) result = oasp_mul(f, result, a);
+        a = oasp_mul(f, a, a);
+    }
+    return result;
+}
+
+/* Whether x has multiplicative order q - 1 modulo x^k - g(x); only an irreducible f leaves q - 1
+ * units, so this also proves f irreducible. */
+static int oasp_x_is_primitive(const OaspField* f)
+{
+    uint32_t power = 1, order = 0;
+    do {
+        power = oasp_mulx(f, power);
+        ++order;
+    } while (power != 1 && order < f->q - 1);
+    return power == 1 && order == f->q - 1;
+}
+
+uint32_t oas_primitive_polynomial(uint32_t p, uint32_t k)
+{
+    OaspField f;
+    uint32_t g;
+    const uint32_t q = oasp_pow_capped(p, k, OAS_MAX_FIELD_Q + 1);
+    if (!oasp_is_prime(p) || k <= 1 || q == 0) return 0;
+    f.p = p;
+    f.k = k;
+    f.q = q;
+    for (g = 1; g < q; ++g) {
+        if (g % p == 0) continue; /* f(0) = -g(0) must be nonzero */
+        f.g = g;
+        if (oasp_x_is_primitive(&f)) return g;
+    }
+    return 0; /* cannot happen: GF(p^k) has primitive polynomials for every p, k */
+}
+
+/* ---- names -------------------------------------------------------------------------------- */
+
+static const struct {
+    const char* name;
+    uint32_t code;
+} oasp_names[] = {
+    {"bose", OAS_BOSE},       {"bush", OAS_BUSH},          {"bose-bush", OAS_BOSE_BUSH},
+    {"addelman-kempthorne", OAS_ADDELMAN_KEMPTHORNE},      {"cmjnd", OAS_CMJND},
+    {"random", OAS_RANDOM},   {"jittered2d", OAS_JITTERED_2D}, {"cmj2d", OAS_CMJ_2D},
+    {"zerotwo", OAS_ZERO_TWO}, {"halton", OAS_HALTON},     {"sobol", OAS_SOBOL},
+};
+#define OASP_NAME_COUNT (sizeof oasp_names / sizeof oasp_names[0])
+
+int oas_construction_from_name(const char* name, uint32_t* construction)
+{
+    size_t i;
+    for (i = 0; name != NULL && i < OASP_NAME_COUNT; ++i)
+        if (strcmp(name, oasp_names[i].name) == 0) {
+            if (construction) *construction = oasp_names[i].code;
+            return 0;
+        }
+    return OAS_PATTERN_BAD_ARGUMENT;
+}
+
+const char* oas_construction_name(uint32_t construction)
+{
+    size_t i;
+    for (i = 0; i < OASP_NAME_COUNT; ++i)
+        if (oasp_names[i].code == construction) return oasp_names[i].name;
+    return NULL;
+}
+
+/* ---- patterns ----------------------------------------------------------------------------- */
+
+static void oasp_set_field(OasPattern* pat, uint32_t q)
+{
+    uint32_t p = 0, k = 0;
+    oas_prime_power(q, &p, &k);
+    pat->fieldP = p;
+    pat->fieldK = k;
+    pat->fieldQ = q;
+    pat->fieldPoly = k > 1 ? oas_primitive_polynomial(p, k) : 0;
+}
+
+/* The construction's own fields; returns OAS_PATTERN_NOT_EXACT with a reason when spp cannot be
+ * made exactly. t is the resolved strength. */
+static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t, char* why, size_t whyLen)
+{
+    uint32_t q, p = 0, k = 0;
+    switch (code) {
+    case OAS_BOSE:
+        if (t != 2) { oasp_say(why, whyLen, "bose has strength 2 only"); return OAS_PATTERN_NOT_EXACT; }
+        q = oasp_integer_root(spp, 2);
+        if (q * q != spp) { oasp_say(why, whyLen, "%u is not a square q^2", spp); return OAS_PATTERN_NOT_EXACT; }
+        if (!oas_prime_power(q, NULL, NULL)) { oasp_say(why, whyLen, "q = %u is not a prime power", q); return OAS_PATTERN_NOT_EXACT; }
+        if (q > OAS_MAX_BOSE_Q) { oasp_say(why, whyLen, "q = %u exceeds 4096", q); return OAS_PATTERN_NOT_EXACT; }
+        pat->s = q;
+        pat->blockDims = q + 1;
+        oasp_set_field(pat, q);
+        return OAS_PATTERN_OK;
+    case OAS_BUSH:
+        if (t < 2) { oasp_say(why, whyLen, "bush needs strength t >= 2"); return OAS_PATTERN_NOT_EXACT; }
+        q = oasp_integer_root(spp, t);
+        if (q < 2 || oasp_pow_capped(q, t, OAS_MAX_SAMPLES) != spp) {
+            oasp_say(why, whyLen, "%u is not q^%u", spp, t);
+            return OAS_PATTERN_NOT_EXACT;
+        }
+        if (!oas_prime_power(q, NULL, NULL)) { oasp_say(why, whyLen, "q = %u is not a prime power", q); return OAS_PATTERN_NOT_EXACT; }
+        if (q < t) { oasp_say(why, whyLen, "bush needs q >= t (q = %u, t = %u)", q, t); return OAS_PATTERN_NOT_EXACT; }
+        pat->s = q;
+        pat->blockDims = q + 1;
+        pat->aux = spp / q; /* q^(t-1) */
+        oasp_set_field(pat, q);
+        return OAS_PATTERN_OK;
+    case OAS_BOSE_BUSH:
+    case OAS_ADDELMAN_KEMPTHORNE: {
+        const int bb = code == OAS_BOSE_BUSH;
+        const char* name = bb ? "bose-bush" : "addelman-kempthorne";
+        if (t != 2) { oasp_say(why, whyLen, "%s has strength 2 only", name); return OAS_PATTERN_NOT_EXACT; }
+        q = oasp_integer_root(spp / 2, 2);
+        if (spp % 2 != 0 || 2 * q * q != spp) { oasp_say(why, whyLen, "%u is not 2q^2", spp); return OAS_PATTERN_NOT_EXACT; }
+        if (!oas_prime_power(q, &p, &k)) p = 0;
+        if (bb && p != 2) { oasp_say(why, whyLen, "q = %u is not a power of two", q); return OAS_PATTERN_NOT_EXACT; }
+        if (!bb && (p == 0 || p == 2)) { oasp_say(why, whyLen, "q = %u is not an odd prime power", q); return OAS_PATTERN_NOT_EXACT; }
+        pat->s = q;
+        pat->blockDims = 2 * q + 1;
+        if (bb) {
+            oasp_set_field(pat, 2 * q); /* GF(2q), mapped onto q levels by dropping the top bit */
+        } else {
+            OaspField f;
+            uint32_t a;
+            oasp_set_field(pat, q);
+            f.p = pat->fieldP;
+            f.k = pat->fieldK;
+            f.q = q;
+            f.g = pat->fieldPoly;
+            /* The smallest non-square: a^((q-1)/2) != 1 (Euler's criterion in GF(q)). */
+            for (a = 1; a < q; ++a)
+                if (oasp_pow(&f, a, (q - 1) / 2) != 1) { pat->aux = a; break; }
+        }
+        return OAS_PATTERN_OK;
+    }
+    case OAS_CMJND:
+        if (t < 1) { oasp_say(why, whyLen, "cmjnd needs d >= 1 dimensions"); return OAS_PATTERN_NOT_EXACT; }
+        q = oasp_integer_root(spp, t);
+        if (q < 2 || oasp_pow_capped(q, t, OAS_MAX_SAMPLES) != spp) {
+            oasp_say(why, whyLen, "%u is not s^%u with s >= 2", spp, t);
+            return OAS_PATTERN_NOT_EXACT;
+        }
+        pat->s = q;
+        pat->blockDims = t;
+        return OAS_PATTERN_OK;
+    default: { /* the baselines take any N */
+        uint32_t nx = oasp_integer_root(spp, 2);
+        pat->s = spp;
+        pat->blockDims = code == OAS_HALTON ? OAS_HALTON_BLOCK_DIMS
+                         : code == OAS_SOBOL ? OAS_SOBOL_BLOCK_DIMS
+                         : code == OAS_RANDOM ? 1 : 2;
+        pat->strength = code == OAS_RANDOM ? 0 : (code == OAS_HALTON || code == OAS_SOBOL ? 1 : 2);
+        /* The 2D grid nx * ny = N with nx the largest divisor <= sqrt(N): squares give n x n,
+         * primes a 1 x N grid (then jittered2d is a 1D stratification of the second axis). */
+        while (nx > 1 && spp % nx != 0) --nx;
+        pat->aux = nx;
+        pat->aux2 = spp / nx;
+        return OAS_PATTERN_OK;
+    }
+    }
+}
+
+int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uint32_t offset,
+                     OasPattern* out, char* why, size_t whyLen)
+{
+    OasPattern pat;
+    uint32_t shiftS, shiftP, shiftN;
+    int status;
+    const uint32_t code = construction;
+    const int isOa = code >= OAS_BOSE && code <= OAS_CMJND;
+    memset(&pat, 0, sizeof pat);
+    if (out) memset(out, 0, sizeof *out);
+    if (why && whyLen) why[0] = '\0';
+    if (out == NULL) { oasp_say(why, whyLen, "out is NULL"); return OAS_PATTERN_BAD_ARGUMENT; }
+    if (oas_construction_name(code) == NULL) {
+        oasp_say(why, whyLen, "construction %u is unknown: valid 1 .. 5 (orthogonal arrays), 16 .. 21 (baselines)", code);
+        return OAS_PATTERN_BAD_ARGUMENT;
+    }
+    if (spp < 1 || spp > OAS_MAX_SAMPLES) {
+        oasp_say(why, whyLen, "spp %u is out of range: valid 1 .. %u", spp, (uint32_t)OAS_MAX_SAMPLES);
+        return OAS_PATTERN_BAD_ARGUMENT;
+    }
+    if (strength > OAS_MAX_STRENGTH) {
+        oasp_say(why, whyLen, "strength %u is out of range: valid 2 .. 24", strength);
+        return OAS_PATTERN_BAD_ARGUMENT;
+    }
+    if (isOa && offset > OAS_OFFSET_CMJ) {
+        oasp_say(why, whyLen, "offset %u is out of range: valid 0 (centered), 1 (j), 2 (mj), 3 (cmj)", offset);
+        return OAS_PATTERN_BAD_ARGUMENT;
+    }
+    if (strength == 0) {
+        if (code == OAS_CMJND) {
+            oasp_say(why, whyLen, "cmjnd needs its strength (the dimensions of one full factorial) given: valid 1 .. 24");
+            return OAS_PATTERN_BAD_ARGUMENT;
+        }
+        strength = 2;
+    }
+    pat.construction = code;
+    pat.N = spp;
+    pat.strength = strength;
+    pat.offset = isOa ? offset : 0;
+    status = oasp_fields(&pat, code, spp, strength, why, whyLen);
+    if (status != OAS_PATTERN_OK) return status;
+    /* The constants every shader divides by. */
+    if (isOa) pat.aux2 = pat.N / pat.s;
+    oas_divisor(pat.s, &pat.recipS, &shiftS);
+    oas_divisor(pat.fieldP > 1 ? pat.fieldP : 1, &pat.recipP, &shiftP);
+    oas_divisor(pat.N, &pat.recipN, &shiftN);
+    pat.recipShifts = shiftS | (shiftP << 8) | (shiftN << 16);
+    *out = pat;
+    return OAS_PATTERN_OK;
+}
+
+/* ---- Sobol direction numbers --------------------------------------------------------------- */
+
+/* The GLSL library's oas_pcg (shaders/oas/oas_hash.glsl): the hash behind the initial numbers. */
+static uint32_t oasp_pcg(uint32_t v)
+{
+    const uint32_t state = v * 747796405u + 2891336453u;
+    const uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+void oas_sobol_directions(uint32_t out[OAS_SOBOL_BLOCK_DIMS * 32])
+{
+    uint32_t b, dim = 1, degree;
+    memset(out, 0, sizeof(uint32_t) * OAS_SOBOL_BLOCK_DIMS * 32);
+    for (b = 0; b < 32; ++b) out[b] = 1u << (31 - b); /* dimension 0: van der Corput */
+    /* Dimensions 1, 2, ...: the primitive polynomials x^k + g(x) over GF(2) in order of degree,
+     * then of g (the test oas_primitive_polynomial uses, every g rather than the first). */
+    for (degree = 1; dim < OAS_SOBOL_BLOCK_DIMS; ++degree) {
+        uint32_t g;
+        for (g = 1; g < (1u << degree) && dim < OAS_SOBOL_BLOCK_DIMS; g += 2) {
+            uint32_t m[33], k, i;
+            if (degree > 1) {
+                OaspField f;
+                f.p = 2;
+                f.k = degree;
+                f.q = 1u << degree;
+                f.g = g;
+                if (!oasp_x_is_primitive(&f)) continue;
+            }
+            /* Initial numbers m_1..m_degree odd with m_k < 2^k, from a fixed hash; dimension 1
+             * (x + 1) keeps m_1 = 1 so that dimensions 0 and 1 form the (0,2)-sequence. */
+            memset(m, 0, sizeof m);
+            for (k = 1; k <= degree; ++k) m[k] = dim == 1 ? 1u : ((oasp_pcg(dim * 64 + k) & ((1u << k) - 1)) | 1u);
+            /* Bratley and Fox (1988): m_k = 2 a_1 m_{k-1} ^ 4 a_2 m_{k-2} ^ ... ^ 2^s m_{k-s} ^ m_{k-s},
+             * with g's bits a_{s-1} .. a_1 the inner coefficients. */
+            for (k = degree + 1; k <= 32; ++k) {
+                uint32_t mk = m[k - degree] ^ (m[k - degree] << degree);
+                for (i = 1; i < degree; ++i)
+                    if ((g >> (degree - i)) & 1u) mk ^= m[k - i] << i;
+                m[k] = mk;
+            }
+            for (b = 0; b < 32; ++b) out[dim * 32 + b] = m[b + 1] << (31 - b);
+            ++dim;
+        }
+    }
+}

@@ -1,0 +1,104 @@
+/* oas_pattern.h - build the 64-byte OasPattern descriptor from C (C99), or from any language with
+ * a C FFI. The GLSL library (shaders/oas/oas.glsl) evaluates samples from this descriptor; this
+ * header and oas_pattern.c are the one implementation of every value choice that goes into it
+ * (the C++ API, oas::makePattern, wraps them). docs/PATTERN.md specifies the layout word by word,
+ * and tests/golden/patterns.json holds request -> words -> first samples vectors for other ports.
+ *
+ *   OasPattern p;
+ *   char why[256];
+ *   if (oas_make_pattern(OAS_BOSE, 49, 0, OAS_OFFSET_CMJ, &p, why, sizeof why) != 0)
+ *       fprintf(stderr, "%s\n", why);          // names the value and what would be valid
+ *   // upload p as is: 16 uint32_t, the GLSL struct OasPattern, std430 / push-constant ready
+ *
+ * Thread-safe, no allocation, no global state. Link oas_pattern.c (CMake target oas::pattern_c).
+ */
+#ifndef OAS_PATTERN_H
+#define OAS_PATTERN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Byte for byte the GLSL struct OasPattern (shaders/oas/oas_pattern.glsl). */
+typedef struct OasPattern {
+    uint32_t construction; /**< OAS_BOSE ... OAS_SOBOL */
+    uint32_t offset;       /**< OAS_OFFSET_* (0 for the baselines) */
+    uint32_t N;            /**< points per pixel in one OA (one pass) */
+    uint32_t s;            /**< levels per dimension */
+    uint32_t strength;     /**< t */
+    uint32_t blockDims;    /**< dimensions per independently randomized block */
+    uint32_t fieldP, fieldK, fieldQ, fieldPoly; /**< GF(p^k), q = p^k, x^k = poly(x) */
+    uint32_t aux, aux2;    /**< per construction, see docs/PATTERN.md */
+    uint32_t recipS, recipP, recipN, recipShifts; /**< division constants for s, p, N */
+} OasPattern;
+
+/* The same names and values as the GLSL constants, so code reads the same on both sides. */
+enum {
+    OAS_BOSE = 1,
+    OAS_BUSH = 2,
+    OAS_BOSE_BUSH = 3,
+    OAS_ADDELMAN_KEMPTHORNE = 4,
+    OAS_CMJND = 5,
+    OAS_RANDOM = 16,
+    OAS_JITTERED_2D = 17,
+    OAS_CMJ_2D = 18,
+    OAS_ZERO_TWO = 19,
+    OAS_HALTON = 20,
+    OAS_SOBOL = 21
+};
+enum { OAS_OFFSET_CENTERED = 0, OAS_OFFSET_J = 1, OAS_OFFSET_MJ = 2, OAS_OFFSET_CMJ = 3 };
+enum {
+    OAS_MAX_SAMPLES = 1 << 24, /**< points per pixel: strata stay exact in 24-bit fractions */
+    OAS_MAX_BOSE_Q = 4096,     /**< q^2 <= 2^24 */
+    OAS_MAX_FIELD_Q = 65535,   /**< products of two field elements fit 32 bits */
+    OAS_MAX_STRENGTH = 24,
+    OAS_HALTON_BLOCK_DIMS = 32,
+    OAS_SOBOL_BLOCK_DIMS = 64
+};
+
+/** Status codes (0 is success). */
+enum {
+    OAS_PATTERN_OK = 0,
+    OAS_PATTERN_BAD_ARGUMENT = 1,  /**< construction, offset, spp or strength out of range */
+    OAS_PATTERN_NOT_EXACT = 2      /**< this construction cannot make exactly `spp` points */
+};
+
+/**
+ * Builds the pattern for `construction` (OAS_BOSE ... OAS_SOBOL) with exactly `spp` points per
+ * pixel. `strength` 0 means the default: 2, or for OAS_CMJND the number of dimensions of one full
+ * factorial, which must then be given (CMJND has no default). `offset` is OAS_OFFSET_* and is
+ * ignored (stored as 0) by the baselines. On failure *out is zeroed and, when why != NULL, a
+ * NUL-terminated message (at most whyLen bytes) names the value and the rule it breaks.
+ */
+int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uint32_t offset,
+                     OasPattern* out, char* why, size_t whyLen);
+
+/** Construction code for a sampler name ("bose", "bush", "bose-bush", "addelman-kempthorne",
+ *  "cmjnd", "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"); 0 on success. */
+int oas_construction_from_name(const char* name, uint32_t* construction);
+/** The sampler name of a construction code, or NULL. */
+const char* oas_construction_name(uint32_t construction);
+
+/** q = p^k with p prime: returns 1 and sets *p, *k; else 0. */
+int oas_prime_power(uint32_t q, uint32_t* p, uint32_t* k);
+/** The reduction polynomial g (x^k = g(x), coefficients packed as base-p digits) used for GF(p^k):
+ *  the smallest g, counting up, for which x has multiplicative order p^k - 1. 0 for k = 1, and
+ *  0 when p is not prime or p^k > 65536. */
+uint32_t oas_primitive_polynomial(uint32_t p, uint32_t k);
+
+/** Granlund-Montgomery constants: floor(x / d) == (mulhi(x, recip) + ((x - mulhi) >> 1)) >> (shift - 1)
+ *  for every 32-bit x, as oas_fastdiv computes it (shaders/oas/oas_hash.glsl); d >= 1. */
+void oas_divisor(uint32_t d, uint32_t* recip, uint32_t* shift);
+
+/** The Sobol baseline's direction numbers: OAS_SOBOL_BLOCK_DIMS x 32 words, [dim * 32 + bit], bit
+ *  0 the most significant (what a shader's OAS_SOBOL_DIRECTION(dim, bit) must return). */
+void oas_sobol_directions(uint32_t out[OAS_SOBOL_BLOCK_DIMS * 32]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* OAS_PATTERN_H */
