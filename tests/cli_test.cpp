@@ -257,6 +257,28 @@ TEST_F(CliTest, CsvIsBitIdenticalToGenerateCpu)
     expectBitIdentical(expectedValues("bose", 49, 5, 7, 3, 4), values);
 }
 
+TEST_F(CliTest, PrintPatternGivesTheWordsInLayoutOrder)
+{
+    // --print-pattern is for hosts that upload the descriptor without linking oas: the "words"
+    // array must be the 16 words of oas::makePattern, in order, and each named word must agree.
+    const ToolRun r = runTool({"--sampler", "addelman-kempthorne", "--spp", "162", "--offset", "mj", "--print-pattern"});
+    ASSERT_EQ(r.status, 0) << describe(r);
+    oas::PatternRequest request;
+    request.sampler = "addelman-kempthorne";
+    request.spp = 162;
+    request.offset = "mj";
+    const oas::Pattern p = oas::makePattern(request);
+    const std::uint32_t* words = &p.construction;
+    std::string list;
+    for (int i = 0; i < 16; ++i) list += (i ? ", " : "") + std::to_string(words[i]);
+    EXPECT_NE(r.out.find("\"words\": [" + list + "]"), std::string::npos) << describe(r);
+    EXPECT_NE(r.out.find("\"aux\": " + std::to_string(p.aux) + ","), std::string::npos) << describe(r);
+    EXPECT_NE(r.out.find("\"recipShifts\": " + std::to_string(p.recipShifts) + "\n"), std::string::npos) << describe(r);
+    const ToolRun bad = runTool({"--sampler", "bose", "--spp", "50", "--print-pattern"});
+    EXPECT_EQ(bad.status, 2) << describe(bad);
+    EXPECT_TRUE(bad.out.empty()) << describe(bad);
+}
+
 TEST_F(CliTest, CsvToFileMatchesStdout)
 {
     const ToolRun toStdout = runTool(kSpecArgs);

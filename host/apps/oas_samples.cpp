@@ -80,6 +80,19 @@ void printList(std::uint32_t spp, std::uint32_t dims, std::uint32_t strength)
     }
 }
 
+/// The pattern's words by name, in layout order, for hosts that upload it without linking oas.
+std::string patternJson(const oas::Pattern& p)
+{
+    static const char* names[16] = {"construction", "offset", "N", "s", "strength", "blockDims", "fieldP", "fieldK",
+                                    "fieldQ", "fieldPoly", "aux", "aux2", "recipS", "recipP", "recipN", "recipShifts"};
+    const std::uint32_t* words = &p.construction;
+    std::string out = "{\n  \"describe\": \"" + oas::describe(p) + "\",\n  \"words\": [";
+    for (int i = 0; i < 16; ++i) out += (i ? ", " : "") + std::to_string(words[i]);
+    out += "],\n";
+    for (int i = 0; i < 16; ++i) out += "  \"" + std::string(names[i]) + "\": " + std::to_string(words[i]) + (i < 15 ? ",\n" : "\n");
+    return out + "}\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -89,7 +102,7 @@ int main(int argc, char** argv)
     request.spp = 0;
     std::string device = "cpu", format = "csv", pixel = "0,0", output;
     std::uint32_t seed = 0;
-    bool list = false, summary = false, explain = false;
+    bool list = false, summary = false, explain = false, printPattern = false;
     app.add_option("--sampler", request.sampler, "sampler name, or 'oa' for the best orthogonal array (see --list)");
     app.add_option("--spp", request.spp, "points per pixel")->check(CLI::Range(1u, oas::kMaxSamples));
     app.add_option("--dims", request.dims, "dimensions per point")->check(CLI::Range(1u, oas::kMaxDims));
@@ -104,6 +117,8 @@ int main(int argc, char** argv)
     app.add_flag("--list", list, "list samplers and the valid spp near --spp");
     app.add_flag("--summary", summary, "print the pattern's stratification summary to standard error");
     app.add_flag("--explain", explain, "print which pattern was chosen and why, to standard error");
+    app.add_flag("--print-pattern", printPattern,
+                 "print the 64-byte OasPattern (16 named words, docs/PATTERN.md) as JSON instead of samples");
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -131,6 +146,14 @@ int main(int argc, char** argv)
         }
         if (pattern.N != request.spp)
             std::cerr << "note: spp rounded up from " << request.spp << " to " << pattern.N << "\n";
+        if (printPattern) {
+            const std::string text = patternJson(pattern);
+            if (output.empty())
+                std::fwrite(text.data(), 1, text.size(), stdout);
+            else
+                oas::writeFileAtomically(output, text);
+            return 0;
+        }
         oas::SampleRequest sr;
         sr.x0 = px;
         sr.y0 = py;
