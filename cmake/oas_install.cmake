@@ -10,7 +10,7 @@ install(TARGETS oas_glsl oas_pattern_c oas_pattern EXPORT oasTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(FILES ${PROJECT_SOURCE_DIR}/host/oas/oas_pattern.h ${PROJECT_SOURCE_DIR}/host/oas/oas_pattern.c
+install(FILES ${PROJECT_SOURCE_DIR}/host/oas/oas_pattern.h
               ${PROJECT_SOURCE_DIR}/host/oas/pattern.hpp ${PROJECT_SOURCE_DIR}/host/oas/glsl_compat.hpp
               ${OAS_GLSL_SOURCES} ${OAS_SINGLE_GLSL}
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/oas)
@@ -24,9 +24,18 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/oasConfigVersion.cmake
                                  COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/oasConfig.cmake ${PROJECT_BINARY_DIR}/oasConfigVersion.cmake
         DESTINATION ${OAS_CMAKE_INSTALL_DIR})
+# The C builder's source too, for FFI users who compile it into their own (shared) library.
+# (With its header and oas_joe_kuo.inc, the Sobol table, so the directory compiles on its own.)
+install(FILES ${PROJECT_SOURCE_DIR}/host/oas/oas_pattern.c ${PROJECT_SOURCE_DIR}/host/oas/oas_joe_kuo.inc
+              ${PROJECT_SOURCE_DIR}/host/oas/oas_pattern.h
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/oas/src)
+# Joe and Kuo's licence asks binary distributions to carry its notice: data/sobol/README.md has it.
 install(FILES ${PROJECT_SOURCE_DIR}/docs/PATTERN.md ${PROJECT_SOURCE_DIR}/tests/golden/patterns.json
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
+install(FILES ${PROJECT_SOURCE_DIR}/data/sobol/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR}
+        RENAME SOBOL-DIRECTION-NUMBERS-LICENCE.md)
 
 if(OAS_BUILD_TOOLS)
-  install(TARGETS oas-samples oas-render oas-diff oas-study RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  # (oas-study stays in the build tree: it reads study/plot.py from the checkout.)
+  install(TARGETS oas-samples oas-render oas-diff RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Builds oas with AddressSanitizer + UndefinedBehaviorSanitizer (g++) into build-asan/ and runs
-# every ctest case that does not need the Vulkan device. Those (the Vk*/Gpu* suites and the CLI's
-# --device gpu runs) execute lavapipe's LLVM-JIT-compiled shaders, which take ~13 min per test
-# under ASan and whose code is not ours; they run unsanitized in scripts/test.sh's main suite.
+# every ctest case that does not need the Vulkan device. Those (the Vk*/Gpu* suites, the CLI's
+# --device gpu runs and the Consumer.* example projects) execute lavapipe's LLVM-JIT-compiled
+# shaders, which take ~13 min per test under ASan and whose code is not ours; they run unsanitized
+# in scripts/test.sh's main suite (the Consumer.* tests also build their own, unsanitized oas).
 # Part of scripts/test.sh (so of .ci/run); run alone after scripts/setup.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,7 +13,7 @@ flags="-O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitiz
   -DOAS_BUILD_BENCHMARKS=OFF
 cmake --build build-asan -j "$(nproc)"
 # Tests that dispatch on the device (kept in one place: keep it in step with tests/).
-gpu_tests='^(VkSmoke|GpuCpu|RenderGpu|StudyGpu|LoopCap)\.|^CliTest\.Gpu'
+gpu_tests='^(VkSmoke|GpuCpu|GoldenGpu|RenderGpu|StudyGpu|LoopCap|Consumer)\.|^CliTest\.Gpu'
 echo "sanitize: not run under ASan (they need lavapipe's JIT; the main suite runs them): $gpu_tests"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"

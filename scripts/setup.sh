@@ -8,6 +8,7 @@ packages=(
   mesa-vulkan-drivers libvulkan-dev vulkan-validationlayers vulkan-tools glslang-tools spirv-tools
   libglm-dev libglfw3-dev libopenexr-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev libgtest-dev
+  python3-scipy  # tests/sobol_scipy_test.py: the Sobol baseline against scipy.stats.qmc.Sobol
   "$@"
 )
 missing=()

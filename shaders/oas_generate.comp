@@ -20,7 +20,7 @@ layout(constant_id = 2) const uint oasSpecFieldKind = 0u;
 #define OAS_STATIC_CONSTRUCTION oasSpecConstruction
 #define OAS_STATIC_OFFSET oasSpecOffset
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
-// The Sobol baseline's direction numbers (oas::sobolDirections(), 64 dims x 32 bits).
+// The Sobol baseline's direction numbers (oas::sobolDirections(), 1024 dims x 32 bits).
 layout(std430, binding = 1) readonly buffer SobolDirections { uint sobolDirections[]; };
 #define OAS_SOBOL_DIRECTION(dim, bit) sobolDirections[(dim) * 32u + (bit)]
 #include "oas/oas.glsl"

@@ -93,8 +93,7 @@ std::string spectraSection(const std::string& command, bool quick, double second
           "low-frequency disc (2D stratification: the picture Jarosz et al. 2019 use to explain the method); "
           "pairs across blocks keep only the cross, as a padded sampler does. CMJ offsets darken the lowest "
           "frequencies most but leave peaks at multiples of s along the axes; Halton's and CMJ2D's lattices "
-          "show as peaks too. Our Sobol direction numbers are our own (not Joe–Kuo), and its pair (1,5) has a "
-          "bright streak at k_y = ±1: a weaker 2D projection than the reference tables would give.\n\n"
+          "show as peaks too. Sobol uses Joe and Kuo's direction numbers (new-joe-kuo-6.21201).\n\n"
        << "![2D projections](study/projections.png)\n\n![power spectra](study/spectra.png)\n\n";
     return md.str();
 }

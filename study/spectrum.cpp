@@ -139,7 +139,7 @@ std::vector<ProjectionPair> projectionPairs(const SamplerSpec& spec, const oas::
     // stratified (Jarosz et al. 2019, Sec. 4); the pair across blocks shows what padding leaves.
     std::uint32_t block = pattern.blockDims ? pattern.blockDims : 2;
     if (spec.sampler == "halton") block = 32;  // OAS_HALTON_BLOCK in shaders/oas/oas_baselines.glsl
-    if (spec.sampler == "sobol") block = 64;   // OAS_SOBOL_BLOCK
+    if (spec.sampler == "sobol") block = 1024;  // OAS_SOBOL_BLOCK
     if (spec.sampler == "random") block = 1;
     const std::pair<std::uint32_t, std::uint32_t> candidates[] = {{0, 1}, {0, 2}, {1, 5}, {0, block}};
     std::vector<ProjectionPair> out;

@@ -105,6 +105,28 @@ TEST_F(GpuCpu, EveryBaseline)
     }
 }
 
+TEST_F(GpuCpu, SobolReadsTheWholeDirectionTableAndCrossesItsBlock)
+{
+    // EveryBaseline's 70 dims stay inside Sobol's 1024-dim block: here every dimension of the
+    // Joe-Kuo table (the whole storage buffer) and the first of the next block, on the GPU.
+    oas::GpuGenerator& gpu = generator();
+    for (std::uint32_t spp : {16u, 7u}) {  // a power of two, and one whose later blocks permute 7
+        oas::PatternRequest req;
+        req.sampler = "sobol";
+        req.spp = spp;
+        const oas::Pattern pattern = oas::makePattern(req);
+        oas::SampleRequest r;
+        r.width = 2;
+        r.height = 1;
+        r.x0 = 16382;
+        r.y0 = 9;
+        r.spp = spp + 3;
+        r.dims = pattern.blockDims + 6;
+        r.seed = 12345u + spp;
+        compare(gpu, pattern, r, "sobol " + std::to_string(spp) + " x " + std::to_string(r.dims) + " dims");
+    }
+}
+
 TEST_F(GpuCpu, ManyPixelsInSeveralDispatchChunks)
 {
     oas::GpuGenerator& gpu = generator();

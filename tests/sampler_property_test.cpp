@@ -146,8 +146,8 @@ TEST(Sobol, FirstDimensionsAreVanDerCorputAndTheZeroTwoPartner)
 TEST(Sobol, EveryDimensionIsAZeroOneSequenceAndScramblingKeepsIt)
 {
     // Each Sobol dimension's first 2^m points hit each of 2^m intervals once; Owen scrambling
-    // keeps that, and later blocks (shuffled indices) do too.
-    for (std::uint32_t d = 0; d < 64; ++d) {
+    // keeps that, and later blocks (shuffled indices) do too. Every dimension of the table.
+    for (std::uint32_t d = 0; d < oas::glsl::OAS_SOBOL_BLOCK; ++d) {
         std::vector<bool> seen(1024, false);
         for (std::uint32_t i = 0; i < 1024; ++i) {
             const std::uint32_t cell = oas::glsl::oas_sobol(i, d) >> 22;
@@ -159,7 +159,7 @@ TEST(Sobol, EveryDimensionIsAZeroOneSequenceAndScramblingKeepsIt)
     r.sampler = "sobol";
     r.spp = 256;
     const oas::Pattern p = oas::makePattern(r);
-    const std::uint32_t dims = 140;
+    const std::uint32_t dims = 2 * oas::glsl::OAS_SOBOL_BLOCK + 12;  // into the third block
     const auto pts = points(p, dims, 3, 4, 5);
     for (std::uint32_t d = 0; d < dims; ++d) ASSERT_TRUE(oas::isStratified(pts.data(), 256, dims, {d}, 256)) << d;
     // Dimensions (0,1) form a (0,8,2)-net: every elementary interval of area 1/256 holds one point.

@@ -195,7 +195,7 @@ TEST(StudySpectrum, ProjectionPairsFollowThePointsDump)
     EXPECT_EQ(names("BoseCMJ", 121), (V{"(0,1)", "(0,2)", "(1,5)", "cross-block (0,12)"}));
     EXPECT_EQ(names("CMJND(t=4)", 81), (V{"(0,1)", "(0,2)", "(1,5)", "cross-block (0,4)"}));
     EXPECT_EQ(names("Halton", 128), (V{"(0,1)", "(0,2)", "(1,5)", "cross-block (0,32)"}));
-    EXPECT_EQ(names("Sobol", 128), (V{"(0,1)", "(0,2)", "(1,5)", "cross-block (0,64)"}));
+    EXPECT_EQ(names("Sobol", 128), (V{"(0,1)", "(0,2)", "(1,5)", "cross-block (0,1024)"}));
     // Duplicates dropped: Random's (0,1) and CMJ2D's (0,2) are their cross-block pairs.
     EXPECT_EQ(names("Random", 128), (V{"cross-block (0,1)", "(0,2)", "(1,5)"}));
     EXPECT_EQ(names("CMJ2D-pad", 128), (V{"(0,1)", "cross-block (0,2)", "(1,5)"}));

@@ -328,47 +328,35 @@ int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uin
 
 /* ---- Sobol direction numbers --------------------------------------------------------------- */
 
-/* The GLSL library's oas_pcg (shaders/oas/oas_hash.glsl): the hash behind the initial numbers. */
-static uint32_t oasp_pcg(uint32_t v)
-{
-    const uint32_t state = v * 747796405u + 2891336453u;
-    const uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
+/* Joe and Kuo's table (s, a, m_1 .. m_s per dimension), generated from data/sobol/ by
+ * scripts/joe_kuo.py; a table rather than code because these numbers come from a search, not a
+ * formula. */
+#include "oas_joe_kuo.inc"
+
+/* The table must cover exactly one Sobol block (a negative array size fails the build; the casts
+ * because the two constants belong to different enums). */
+typedef char oasp_joe_kuo_covers_one_block[(int)OASP_JOE_KUO_DIMS == (int)OAS_SOBOL_BLOCK_DIMS ? 1 : -1];
 
 void oas_sobol_directions(uint32_t out[OAS_SOBOL_BLOCK_DIMS * 32])
 {
-    uint32_t b, dim = 1, degree;
-    memset(out, 0, sizeof(uint32_t) * OAS_SOBOL_BLOCK_DIMS * 32);
-    for (b = 0; b < 32; ++b) out[b] = 1u << (31 - b); /* dimension 0: van der Corput */
-    /* Dimensions 1, 2, ...: the primitive polynomials x^k + g(x) over GF(2) in order of degree,
-     * then of g (the test oas_primitive_polynomial uses, every g rather than the first). */
-    for (degree = 1; dim < OAS_SOBOL_BLOCK_DIMS; ++degree) {
-        uint32_t g;
-        for (g = 1; g < (1u << degree) && dim < OAS_SOBOL_BLOCK_DIMS; g += 2) {
-            uint32_t m[33], k, i;
-            if (degree > 1) {
-                OaspField f;
-                f.p = 2;
-                f.k = degree;
-                f.q = 1u << degree;
-                f.g = g;
-                if (!oasp_x_is_primitive(&f)) continue;
-            }
-            /* Initial numbers m_1..m_degree odd with m_k < 2^k, from a fixed hash; dimension 1
-             * (x + 1) keeps m_1 = 1 so that dimensions 0 and 1 form the (0,2)-sequence. */
-            memset(m, 0, sizeof m);
-            for (k = 1; k <= degree; ++k) m[k] = dim == 1 ? 1u : ((oasp_pcg(dim * 64 + k) & ((1u << k) - 1)) | 1u);
-            /* Bratley and Fox (1988): m_k = 2 a_1 m_{k-1} ^ 4 a_2 m_{k-2} ^ ... ^ 2^s m_{k-s} ^ m_{k-s},
-             * with g's bits a_{s-1} .. a_1 the inner coefficients. */
-            for (k = degree + 1; k <= 32; ++k) {
-                uint32_t mk = m[k - degree] ^ (m[k - degree] << degree);
-                for (i = 1; i < degree; ++i)
-                    if ((g >> (degree - i)) & 1u) mk ^= m[k - i] << i;
-                m[k] = mk;
-            }
-            for (b = 0; b < 32; ++b) out[dim * 32 + b] = m[b + 1] << (31 - b);
-            ++dim;
+    const uint16_t* entry = oasp_joe_kuo;
+    uint32_t b, dim;
+    for (b = 0; b < 32; ++b) out[b] = 1u << (31 - b); /* dimension 0: van der Corput (all m_k = 1) */
+    for (dim = 1; dim < OAS_SOBOL_BLOCK_DIMS; ++dim) {
+        /* v[k] is the k-th direction number (k = 1 .. 32) as a 32-bit fraction, v_k = m_k / 2^k.
+         * Bratley and Fox (1988), as Joe and Kuo (2003, 2008) state it: v_k = m_k << (32 - k) for
+         * k <= s, then v_k = v_{k-s} ^ (v_{k-s} >> s) ^ a_1 v_{k-1} ^ ... ^ a_{s-1} v_{k-s+1},
+         * where a's bits, most significant first, are a_1 .. a_{s-1}. */
+        const uint32_t s = entry[0], a = entry[1];
+        uint32_t v[33], k, i;
+        for (k = 1; k <= s; ++k) v[k] = (uint32_t)entry[1 + k] << (32 - k);
+        for (k = s + 1; k <= 32; ++k) {
+            uint32_t vk = v[k - s] ^ (v[k - s] >> s);
+            for (i = 1; i < s; ++i)
+                if ((a >> (s - 1 - i)) & 1u) vk ^= v[k - i];
+            v[k] = vk;
         }
+        for (b = 0; b < 32; ++b) out[dim * 32 + b] = v[b + 1];
+        entry += 2 + s;
     }
 }

@@ -56,7 +56,7 @@ enum {
     OAS_MAX_FIELD_Q = 65535,   /**< products of two field elements fit 32 bits */
     OAS_MAX_STRENGTH = 24,
     OAS_HALTON_BLOCK_DIMS = 32,
-    OAS_SOBOL_BLOCK_DIMS = 64
+    OAS_SOBOL_BLOCK_DIMS = 1024    /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc) */
 };
 
 /** Status codes (0 is success). */
@@ -93,8 +93,10 @@ uint32_t oas_primitive_polynomial(uint32_t p, uint32_t k);
  *  for every 32-bit x, as oas_fastdiv computes it (shaders/oas/oas_hash.glsl); d >= 1. */
 void oas_divisor(uint32_t d, uint32_t* recip, uint32_t* shift);
 
-/** The Sobol baseline's direction numbers: OAS_SOBOL_BLOCK_DIMS x 32 words, [dim * 32 + bit], bit
- *  0 the most significant (what a shader's OAS_SOBOL_DIRECTION(dim, bit) must return). */
+/** The Sobol baseline's direction numbers: OAS_SOBOL_BLOCK_DIMS (1024) x 32 words, [dim * 32 + bit],
+ *  bit 0 the most significant (what a shader's OAS_SOBOL_DIRECTION(dim, bit) must return).
+ *  Dimension 0 is van der Corput; dimensions 1 .. 1023 are Joe and Kuo's dimensions 2 .. 1024
+ *  (new-joe-kuo-6.21201, the set scipy.stats.qmc.Sobol and pbrt use; data/sobol/README.md). */
 void oas_sobol_directions(uint32_t out[OAS_SOBOL_BLOCK_DIMS * 32]);
 
 #ifdef __cplusplus

@@ -56,7 +56,7 @@ const std::map<std::string, SamplerInfo>& samplerTable()
         {"cmj2d", {OAS_CMJ_2D, "correlated multi-jittered 2D per pair, padded (Kensler 2013; baseline)"}},
         {"zerotwo", {OAS_ZERO_TWO, "Owen-scrambled (0,2)-sequence per pair, padded (baseline)"}},
         {"halton", {OAS_HALTON, "Halton with random digit permutations, blocks of 32 dims (baseline)"}},
-        {"sobol", {OAS_SOBOL, "Owen-scrambled Sobol, blocks of 64 dims (baseline; our direction numbers)"}},
+        {"sobol", {OAS_SOBOL, "Owen-scrambled Sobol, blocks of 1024 dims (baseline; Joe-Kuo direction numbers)"}},
     };
     return table;
 }

@@ -67,12 +67,11 @@ inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> specializationKey
     return {p.construction, p.offset, fieldKind(p)};
 }
 
-/// Sobol direction numbers, OAS_SOBOL_BLOCK (64) dimensions x 32 bits, [dim * 32 + bit], bit 0
-/// the most significant. Dimension 0 is van der Corput, dimension 1 uses x + 1 with m = 1 (with
-/// dimension 0, the (0,2)-sequence); dimension j >= 2 uses the j-th primitive polynomial over GF(2)
-/// (in order of degree, then value) with initial numbers m_k odd and < 2^k drawn from a fixed hash.
-/// These are valid Sobol (t,s)-sequence directions but not Joe and Kuo's optimised ones (which
-/// are data we do not ship): higher dimensions have weaker 2D projections than theirs.
+/// Sobol direction numbers, OAS_SOBOL_BLOCK (1024) dimensions x 32 bits, [dim * 32 + bit], bit 0
+/// the most significant. Dimension 0 is van der Corput; dimension j >= 1 is Joe and Kuo's
+/// dimension j + 1 (new-joe-kuo-6.21201, chosen for good 2D projections; the set scipy and pbrt
+/// use), so dimension 1 (x + 1, m = 1) makes the (0,2)-sequence with dimension 0. Unscrambled,
+/// the points equal scipy.stats.qmc.Sobol(scramble=False)'s bit for bit (tests/sobol_scipy_test.py).
 const std::vector<std::uint32_t>& sobolDirections();
 
 /// Validated pattern for the request; throws InvalidArgument naming the nearest valid spp.

@@ -60,9 +60,10 @@ uint oas_halton_base(uint i)
 /// permutations (padding), never a silent wrap onto the same bases with the same scrambling.
 const uint OAS_HALTON_BLOCK = 32u;
 
-/// Dimensions of one Sobol block: the host's direction-number table (oas::sobolDirections) has this
-/// many; further dimensions start new blocks with shuffled indices and fresh scrambling.
-const uint OAS_SOBOL_BLOCK = 64u;
+/// Dimensions of one Sobol block: the host's direction-number table (oas::sobolDirections, Joe and
+/// Kuo's first 1024 dimensions) has this many; further dimensions start new blocks with shuffled
+/// indices and fresh scrambling.
+const uint OAS_SOBOL_BLOCK = 1024u;
 
 #if !defined(OAS_SOBOL_DIRECTION) && !defined(OAS_NO_SOBOL)
 #error "oas.glsl: define OAS_SOBOL_DIRECTION(dim, bit) (the Sobol baseline's direction numbers, oas::sobolDirections() on the host) or OAS_NO_SOBOL (this shader never gets a Sobol pattern) before including oas.glsl"

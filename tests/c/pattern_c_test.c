@@ -45,6 +45,19 @@ static void expectRejected(uint32_t code, uint32_t spp, uint32_t strength, uint3
     }
 }
 
+/* The README's C example, verbatim (tests/readme_test.cpp checks the README shows these lines). */
+static int readmeExample(void)
+{
+    OasPattern pattern;
+    char why[256];
+    if (oas_make_pattern(OAS_BOSE, 49, 0, OAS_OFFSET_CMJ, &pattern, why, sizeof why) != 0) {
+        fprintf(stderr, "%s\n", why); /* names the value and what would be valid */
+        return 1;
+    }
+    /* upload pattern as it is: 16 uint32_t, byte for byte the GLSL struct OasPattern */
+    return pattern.N == 49 && pattern.s == 7 ? 0 : 1;
+}
+
 int main(void)
 {
     unsigned i;
@@ -63,6 +76,7 @@ int main(void)
         check(strcmp(oas_construction_name(w[0]), golden[i].sampler) == 0, "code -> name", i);
     }
     check(sizeof(OasPattern) == 64, "OasPattern is 64 bytes", 0);
+    check(readmeExample() == 0, "the README example", 0);
     check(count >= 30, "the golden file has its cases", count);
 
     expectRejected(OAS_BOSE, 0, 0, OAS_OFFSET_CMJ, OAS_PATTERN_BAD_ARGUMENT, "spp 0");

@@ -41,24 +41,19 @@ inline const std::vector<Case>& cases()
 /// The pixel every case samples: oas_pixel_seed(x, y, seed).
 constexpr std::uint32_t kPixelX = 3, kPixelY = 5, kSeed = 7;
 
-/// Sample indices: the first few of pass 0, then two of pass 1 (a fresh randomization).
-inline std::vector<std::uint32_t> indicesFor(std::uint32_t N)
+/// The first min(size, few) of [0, size), then size and size + 1: the start of the next pass
+/// (for sample indices, size = N) or of the next block (for dimensions, size = blockDims).
+inline std::vector<std::uint32_t> firstFewThenNext(std::uint32_t size, std::uint32_t few)
 {
     std::vector<std::uint32_t> out;
-    for (std::uint32_t i = 0; i < std::min<std::uint32_t>(N, 5); ++i) out.push_back(i);
-    out.push_back(N);
-    out.push_back(N + 1);
+    for (std::uint32_t i = 0; i < std::min(size, few); ++i) out.push_back(i);
+    out.push_back(size);
+    out.push_back(size + 1);
     return out;
 }
-
-/// Dimensions: the first few of block 0, then two of block 1 (an independent block).
-inline std::vector<std::uint32_t> dimsFor(std::uint32_t blockDims)
-{
-    std::vector<std::uint32_t> out;
-    for (std::uint32_t d = 0; d < std::min<std::uint32_t>(blockDims, 4); ++d) out.push_back(d);
-    out.push_back(blockDims);
-    out.push_back(blockDims + 1);
-    return out;
-}
+/// Sample indices: five of pass 0, then two of pass 1 (a fresh randomization).
+inline std::vector<std::uint32_t> indicesFor(std::uint32_t N) { return firstFewThenNext(N, 5); }
+/// Dimensions: four of block 0, then two of block 1 (an independent block).
+inline std::vector<std::uint32_t> dimsFor(std::uint32_t blockDims) { return firstFewThenNext(blockDims, 4); }
 
 }  // namespace oas::golden
