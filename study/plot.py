@@ -42,11 +42,22 @@ def slopes(out):
     return table
 
 
+def errorbar_loglog(ax, x, y, se, floor, **kw):
+    """y ± 1 s.e. on log-log axes; the lower bar is clipped at floor (a bar reaching 0 has no log)."""
+    y = [max(v, floor) for v in y]
+    lo = [min(e, v - floor) if e == e else 0 for v, e in zip(y, se)]  # NaN s.e. (n = 1): no bar
+    hi = [e if e == e else 0 for e in se]
+    ax.errorbar(x, y, yerr=[lo, hi], capsize=1.5, elinewidth=0.6, **kw)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+
+
 def draw(ax, rows, integrand, dims, slope_table, samplers=None):
     by = defaultdict(list)
     for r in rows:
         if r["integrand"] == integrand:
-            by[r["sampler"]].append((int(r["N"]), float(r["mse"])))
+            # mse_stderr: the standard error of the MSE over the trials (analytic.csv).
+            by[r["sampler"]].append((int(r["N"]), float(r["mse"]), float(r.get("mse_stderr") or 0)))
     for name, pts in by.items():
         if samplers and name not in samplers:
             continue
@@ -54,8 +65,8 @@ def draw(ax, rows, integrand, dims, slope_table, samplers=None):
         color, ls, mk = STYLE.get(name, (None, "-", "o"))
         s = slope_table.get((dims, integrand, name))
         label = f"{name} ({s:.2f})" if s is not None else name
-        ax.loglog([p[0] for p in pts], [max(p[1], 1e-300) for p in pts], ls=ls, marker=mk, ms=3, color=color,
-                  lw=1, label=label)
+        errorbar_loglog(ax, [p[0] for p in pts], [p[1] for p in pts], [p[2] for p in pts], 1e-300, ls=ls,
+                        marker=mk, ms=3, color=color, lw=1, label=label)
     ax.set_title(integrand, fontsize=8)
     ax.set_xlabel("N", fontsize=7)
     ax.set_ylabel("MSE", fontsize=7)
@@ -78,13 +89,14 @@ def scene_figures(out):
                 by = defaultdict(list)
                 for r in rows:
                     if r["scene"] == scene:
-                        by[r["sampler"]].append((float(r[xkey]), float(r[ykey])))
+                        # ykey + "_se": the standard error over the point's n renders (scene_curves.csv).
+                        by[r["sampler"]].append((float(r[xkey]), float(r[ykey]), float(r.get(ykey + "_se") or 0)))
                 for name, pts in by.items():
                     pts.sort()
                     color, ls, mk = STYLE.get(name, (None, "-", "o"))
-                    ax.loglog([p[0] for p in pts], [max(p[1], 1e-12) for p in pts], ls=ls, marker=mk, ms=3,
-                              color=color, lw=1, label=name)
-                ax.set_title(f"{scene}: relMSE, {what}", fontsize=9)
+                    errorbar_loglog(ax, [p[0] for p in pts], [p[1] for p in pts], [p[2] for p in pts], 1e-12, ls=ls,
+                                    marker=mk, ms=3, color=color, lw=1, label=name)
+                ax.set_title(f"{scene}: relMSE, {what} (± 1 s.e.)", fontsize=9)
                 ax.set_xlabel(xlabel, fontsize=8)
                 ax.set_ylabel("relative MSE", fontsize=8)
                 ax.tick_params(labelsize=7)

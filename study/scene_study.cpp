@@ -154,7 +154,34 @@ oas::image::Crop cropPixels(const SceneCase& c, std::uint32_t width, std::uint32
     return crop;
 }
 
-std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements)
+std::vector<double> pixelRelErrors(const oas::image::Image& image, const oas::image::Image& reference, double eps)
+{
+    if (image.width != reference.width || image.height != reference.height)
+        throw std::invalid_argument("pixelRelErrors: images differ in size");
+    std::vector<double> e(image.pixelCount());
+    for (std::size_t p = 0; p < e.size(); ++p) {
+        double sum = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double i = image.rgba[4 * p + c], r = reference.rgba[4 * p + c];
+            sum += (i - r) * (i - r) / (r * r + eps);
+        }
+        e[p] = sum / 3;
+    }
+    return e;
+}
+
+double worstPixelsContribution(std::vector<double> e, double fraction)
+{
+    if (e.empty()) return 0;
+    const std::size_t k =
+        std::min(e.size(), std::max<std::size_t>(1, std::size_t(std::ceil(fraction * double(e.size())))));
+    std::nth_element(e.begin(), e.begin() + (k - 1), e.end(), std::greater<double>());
+    double top = 0;
+    for (std::size_t i = 0; i < k; ++i) top += e[i];
+    return top / double(e.size());
+}
+
+std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements, double relSeTarget)
 {
     std::vector<SceneCurve> curves;
     std::map<std::pair<std::string, std::string>, std::map<std::uint32_t, std::vector<const SceneMeasurement*>>> by;
@@ -164,22 +191,31 @@ std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measuremen
         if (!by.count(key)) order.push_back(key);
         by[key][m.spp].push_back(&m);
     }
+    auto mark = [&](Estimate e) {
+        e.capped = !(e.relSe() <= relSeTarget);
+        return e;
+    };
     for (const auto& key : order) {
         SceneCurve c;
         c.scene = key.first;
         c.sampler = key.second;
         for (const auto& [spp, ms] : by[key]) {
-            std::vector<double> t;
-            double e = 0, ec = 0;
+            std::vector<double> t, e, ec, rest, worst;
             for (auto* m : ms) {
                 t.push_back(m->seconds);
-                e += m->relMse;
-                ec += m->relMseCrop;
+                e.push_back(m->relMse);
+                ec.push_back(m->relMseCrop);
+                rest.push_back(m->relMse - m->relMseWorst);
+                worst.push_back(m->relMseWorst);
             }
             c.spp.push_back(spp);
             c.seconds.push_back(median(t));
-            c.relMse.push_back(e / ms.size());
-            c.relMseCrop.push_back(ec / ms.size());
+            c.relMseE.push_back(mark(estimateOf(e)));
+            c.relMseCropE.push_back(mark(estimateOf(ec)));
+            c.relMseRestE.push_back(mark(estimateOf(rest)));
+            c.worstE.push_back(mark(estimateOf(worst)));
+            c.relMse.push_back(c.relMseE.back().mean);
+            c.relMseCrop.push_back(c.relMseCropE.back().mean);
         }
         curves.push_back(std::move(c));
     }
@@ -288,22 +324,34 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             const SamplerSpec& s = samplers[k];
             for (const auto& [spp, pattern] : runs[k]) {
                 auto& tracer = cache.get(pattern);
-                for (std::uint32_t t = 0; t < o.trials; ++t) {
-                    const Render r = render(tracer, plan, scene.width, scene.height, spp, mixSeed(si, k, spp, t));
-                    SceneMeasurement m;
-                    m.scene = info.name;
-                    m.sampler = s.label;
-                    m.pattern = oas::describe(pattern);
-                    m.spp = spp;
-                    m.trial = t;
-                    m.seconds = r.seconds;
-                    m.relMseRaw = oas::image::compare(r.image, info.reference).relMse;
-                    m.relMseCropRaw = oas::image::compare(r.image, info.reference, info.crop).relMse;
-                    m.relMse = m.relMseRaw - info.refErr;
-                    m.relMseCrop = m.relMseCropRaw - info.refErrCrop;
-                    all.push_back(m);
-                    if (t == 0) info.images[{s.label, spp}] = r.image;
-                }
+                // Adaptive n (SceneStudyOptions): each draw is one more render with its own seed.
+                AdaptiveOptions ao;
+                ao.nMin = o.minTrials;
+                ao.nMax = std::max(o.minTrials, o.maxTrials);
+                ao.relTarget = o.relSeTarget;
+                double pointSeconds = 0;
+                if (o.maxSecondsPerPoint > 0) ao.budgetSpent = [&] { return pointSeconds >= o.maxSecondsPerPoint; };
+                adaptiveMeans(
+                    [&](std::uint32_t t) {
+                        const Render r = render(tracer, plan, scene.width, scene.height, spp, mixSeed(si, k, spp, t));
+                        SceneMeasurement m;
+                        m.scene = info.name;
+                        m.sampler = s.label;
+                        m.pattern = oas::describe(pattern);
+                        m.spp = spp;
+                        m.trial = t;
+                        m.seconds = r.seconds;
+                        pointSeconds += r.seconds;
+                        m.relMseRaw = oas::image::compare(r.image, info.reference).relMse;
+                        m.relMseCropRaw = oas::image::compare(r.image, info.reference, info.crop).relMse;
+                        m.relMse = m.relMseRaw - info.refErr;
+                        m.relMseCrop = m.relMseCropRaw - info.refErrCrop;
+                        m.relMseWorst = worstPixelsContribution(pixelRelErrors(r.image, info.reference));
+                        all.push_back(m);
+                        if (t == 0) info.images[{s.label, spp}] = r.image;
+                        return std::vector<double>{m.relMse, m.relMseCrop};
+                    },
+                    2, ao);
             }
             std::fprintf(stderr, "  %s: %s done (%.0f s so far)\n", info.name.c_str(), s.label.c_str(),
                          std::chrono::duration<double>(Clock::now() - t0).count());
@@ -312,42 +360,75 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     }
 
     CsvTable csv({"scene", "sampler", "pattern", "spp", "trial", "seconds", "rel_mse", "rel_mse_crop", "rel_mse_raw",
-                  "rel_mse_crop_raw"});
+                  "rel_mse_crop_raw", "rel_mse_worst"});
     for (const auto& m : all)
         csv.add({m.scene, m.sampler, m.pattern, std::to_string(m.spp), std::to_string(m.trial), fmtG(m.seconds),
-                 fmtG(m.relMse), fmtG(m.relMseCrop), fmtG(m.relMseRaw), fmtG(m.relMseCropRaw)});
+                 fmtG(m.relMse), fmtG(m.relMseCrop), fmtG(m.relMseRaw), fmtG(m.relMseCropRaw), fmtG(m.relMseWorst)});
     csv.write(o.outDir + "/scenes.csv");
     refCsv.write(o.outDir + "/scene_references.csv");
 
-    const auto curves = curvesOf(all);
-    CsvTable curveCsv({"scene", "sampler", "spp", "seconds", "rel_mse", "rel_mse_crop"});
+    const auto curves = curvesOf(all, o.relSeTarget);
+    // Every point with its n and standard errors; "capped" = the s.e. target was not reached (full
+    // image or crop) before maxTrials. plot.py draws the error bars from the *_se columns.
+    CsvTable curveCsv({"scene", "sampler", "spp", "seconds", "rel_mse", "rel_mse_crop", "n", "rel_mse_se",
+                       "rel_mse_crop_se", "capped", "rel_mse_without_worst", "rel_mse_without_worst_se",
+                       "rel_mse_worst", "rel_mse_worst_se"});
     for (const auto& c : curves)
         for (size_t i = 0; i < c.spp.size(); ++i)
             curveCsv.add({c.scene, c.sampler, fmtG(c.spp[i]), fmtG(c.seconds[i]), fmtG(c.relMse[i]),
-                          fmtG(c.relMseCrop[i])});
+                          fmtG(c.relMseCrop[i]), std::to_string(c.relMseE[i].n), fmtG(c.relMseE[i].se),
+                          fmtG(c.relMseCropE[i].se), c.relMseE[i].capped || c.relMseCropE[i].capped ? "1" : "0",
+                          fmtG(c.relMseRestE[i].mean), fmtG(c.relMseRestE[i].se), fmtG(c.worstE[i].mean),
+                          fmtG(c.worstE[i].se)});
     curveCsv.write(o.outDir + "/scene_curves.csv");
 
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const Estimate none{nan, nan, 0, false};
     auto curveOf = [&](const std::string& scene, const std::string& sampler) -> const SceneCurve* {
         for (const auto& c : curves)
             if (c.scene == scene && c.sampler == sampler) return &c;
         return nullptr;
     };
-    auto valueAt = [&](const SceneCurve& c, double spp, bool crop) {
+    // which: 0 full image, 1 crop, 2 without the worst pixels, 3 the worst pixels' contribution.
+    auto estAt = [&](const SceneCurve& c, double spp, int which = 0) {
         for (size_t i = 0; i < c.spp.size(); ++i)
-            if (c.spp[i] == spp) return crop ? c.relMseCrop[i] : c.relMse[i];
-        return std::numeric_limits<double>::quiet_NaN();
+            if (c.spp[i] == spp)
+                return which == 0 ? c.relMseE[i] : which == 1 ? c.relMseCropE[i] : which == 2 ? c.relMseRestE[i] : c.worstE[i];
+        return none;
     };
     // Random at a count it did not render (e.g. Addelman-Kempthorne's 162): its curve is dense
     // (powers of two and Bose's counts) and ∝ 1/spp, so log-log interpolation is accurate.
     auto cmj2dAt128 = [&](const std::string& scene) {
         const SceneCurve* cmj = curveOf(scene, "CMJ2D-pad");
-        return cmj ? valueAt(*cmj, 128, false) : std::numeric_limits<double>::quiet_NaN();
+        return cmj ? estAt(*cmj, 128) : none;
     };
-    auto randomAt = [&](const SceneCurve* rnd, double spp) {
-        if (!rnd) return std::numeric_limits<double>::quiet_NaN();
-        const double exact = valueAt(*rnd, spp, false);
-        return std::isfinite(exact) ? exact : interpLogLog(rnd->spp, rnd->relMse, spp);
+    auto randomAt = [&](const SceneCurve* rnd, double spp, int which = 0) {
+        if (!rnd) return none;
+        const Estimate exact = estAt(*rnd, spp, which);
+        if (std::isfinite(exact.mean)) return exact;
+        return interpEstimate(rnd->spp, which == 0 ? rnd->relMseE : which == 2 ? rnd->relMseRestE : rnd->relMseCropE, spp);
     };
+    // a ÷ b with its s.e.; for a sampler against itself (same = true) the ratio is exactly 1 and its
+    // ± is the number's own relative s.e. (ratioOf assumes independent a and b: √2 too wide).
+    auto ratioTo = [](const Estimate& a, const Estimate& b, bool same) {
+        if (!same) return ratioOf(a, b);
+        Estimate r = a;
+        r.mean = std::isfinite(a.mean) && std::isfinite(b.mean) ? 1.0 : a.mean / b.mean;
+        r.se = a.relSe();
+        return r;
+    };
+    // A verdict cell: "lower"/"higher"/"tie" of a against b, by compare() (2 combined s.e.).
+    auto verdictCell = [](const Estimate& a, const Estimate& b) {
+        if (!std::isfinite(a.mean) || !std::isfinite(b.mean)) return std::string("—");
+        return verdictWord(compare(a, b));
+    };
+    std::uint32_t cappedPoints = 0, points = 0, maxN = 0;
+    for (const auto& c : curves)
+        for (size_t i = 0; i < c.spp.size(); ++i) {
+            ++points;
+            cappedPoints += c.relMseE[i].capped || c.relMseCropE[i].capped;
+            maxN = std::max(maxN, c.relMseE[i].n);
+        }
 
     std::ostringstream md;
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -355,65 +436,92 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
        << "- Device: " << deviceName << " (the CI machine's Vulkan; every figure below is lavapipe wall-clock time)\n"
        << "- Command: `build/" << o.command << "`" << (o.quick ? " (quick mode)" : " (full mode)") << "; scene part run time "
        << fmtF(seconds, 0) << " s\n"
-       << "- Images " << o.width << " px wide; " << o.trials << " independent render(s) per (sampler, spp), "
-       << "spp from " << o.minSpp << " to " << o.maxSpp
+       << "- Images " << o.width << " px wide; spp from " << o.minSpp << " to " << o.maxSpp
        << "; reference: Owen-scrambled Sobol at " << o.referenceSpp << " spp as two independent halves.\n"
+       << "- Error bars: every relMSE is the mean over n independent renders (each its own seed) ± its standard "
+          "error s.e. = sd/√n (sd with n − 1). n is chosen per point: at least " << o.minTrials
+       << " renders, then one more until the s.e. of both the full-image and the crop relMSE is ≤ "
+       << fmtF(100 * o.relSeTarget, 0) << "% of the mean, at most " << o.maxTrials
+       << (o.maxSecondsPerPoint > 0 ? " or until the point's renders took " + fmtG(o.maxSecondsPerPoint) + " s" : std::string())
+       << " (the cap; such numbers are marked \"cap\" with the s.e. reached). " << cappedPoints << " of " << points
+       << " points hit the cap. Stopping on the s.e. biases it slightly low (the minimum n limits this). "
+          "Ratios carry a first-order (delta-method) s.e. for independent numbers (a sampler's ratio to "
+          "itself is 1 ± its own relative s.e.), values read off curves (equal time, time to target) "
+          "the s.e. of the interpolated log error (timing noise not included).\n"
+       << "- Verdicts (\"lower\", \"higher\", goals, rankings) are stated only where two numbers differ by more "
+          "than twice their combined s.e., 2·√(s.e.₁² + s.e.₂²); otherwise the table says **tie**.\n"
        << "- relMSE = mean over pixels and R, G, B of (I − R)² / (R² + 0.01) (Rousselle et al.; the paper's metric), "
           "for the full image and for a crop; the reference's own relMSE, estimated from its two halves, is "
           "subtracted (table below).\n"
-       << "- Time: wall-clock of the render's dispatches, median over the trials, pipeline build excluded. "
-          "The machine is shared, so times carry a few per cent of noise.\n"
-       << "- Data: [`scenes.csv`](study/scenes.csv) (every render), [`scene_curves.csv`](study/scene_curves.csv), "
-          "[`scene_references.csv`](study/scene_references.csv); figures `study/scene_error_vs_spp.png`, "
-          "`study/scene_error_vs_time.png`, `study/scene_equal_time.png`.\n\n";
+       << "- Time: wall-clock of the render's dispatches, median over the renders of a point, pipeline build "
+          "excluded. The machine is shared, so times carry a few per cent of noise.\n"
+       << "- Data: [`scenes.csv`](study/scenes.csv) (every render), [`scene_curves.csv`](study/scene_curves.csv) "
+          "(per point: mean, s.e., n, capped), [`scene_references.csv`](study/scene_references.csv); figures "
+          "`study/scene_error_vs_spp.png`, `study/scene_error_vs_time.png` (± 1 s.e. bars), "
+          "`study/scene_equal_time.png`.\n\n";
 
     md << "| scene | size | integrand dims | crop | reference relMSE (full / crop) | smallest measured relMSE (full / crop) |\n"
           "|---|---|---|---|---|---|\n";
     for (const auto& info : infos) {
         double minFull = 1e300, minCrop = 1e300;
-        for (const auto& m : all)
-            if (m.scene == info.name) minFull = std::min(minFull, m.relMse), minCrop = std::min(minCrop, m.relMseCrop);
+        for (const auto& c : curves)
+            if (c.scene == info.name)
+                for (size_t i = 0; i < c.spp.size(); ++i)
+                    minFull = std::min(minFull, c.relMse[i]), minCrop = std::min(minCrop, c.relMseCrop[i]);
         md << "| " << info.name << " | " << info.width << "×" << info.height << " | " << info.dims << " | "
            << info.crop.w << "×" << info.crop.h << " at (" << info.crop.x << ", " << info.crop.y << "): " << info.cropWhat
            << " | " << sci(info.refErr) << " / " << sci(info.refErrCrop) << " | " << sci(minFull) << " / " << sci(minCrop)
            << " |\n";
     }
-    md << "\n![relMSE vs spp](study/scene_error_vs_spp.png)\n\n![relMSE vs time](study/scene_error_vs_time.png)\n\n";
+    md << "\nThe smallest measured relMSE is the smallest per-point mean.\n\n"
+       << "![relMSE vs spp](study/scene_error_vs_spp.png)\n\n![relMSE vs time](study/scene_error_vs_time.png)\n\n";
 
     // --- At the paper's sample count (~121/128 spp) -------------------------------------------
-    bool goal7d = false;
+    std::string goal7d = "not measured";
     std::string goal7dText;
     md << "### At the paper's sample count (about 121/128 spp)\n\n"
        << "Each sampler at its ladder count nearest 128 (OAs: 121 = 11², Bose–Bush 128, Addelman–Kempthorne 2q², "
           "CMJND s⁴; baselines 128; Random and Halton also at 121, a matched count). Ratios are to Random at the "
-          "same count and to CMJ2D-pad at 128, the paper's comparison.\n\n"
-       << "| scene | sampler | spp | relMSE | crop relMSE | ÷ Random (same spp) | ÷ CMJ2D-pad@128 | ms per frame |\n"
-          "|---|---|---|---|---|---|---|---|\n";
+          "same count and to CMJ2D-pad at 128, the paper's comparison; \"vs\" columns give the verdict.\n\n"
+       << "| scene | sampler | spp | relMSE ± s.e. (n) | crop relMSE ± s.e. (n) | ÷ Random (same spp) | vs Random | "
+          "÷ CMJ2D-pad@128 | vs CMJ2D-pad | ms per frame |\n"
+          "|---|---|---|---|---|---|---|---|---|---|\n";
     for (const auto& info : infos) {
         const SceneCurve* rnd = curveOf(info.name, "Random");
-        const double cmj128 = cmj2dAt128(info.name);
-        double bestOa = 1e300;
+        const Estimate cmj128 = cmj2dAt128(info.name);
+        Estimate bestOa = none, bestOaRnd = none;
         std::string bestOaName;
-        double bestOaRnd = NAN;
         for (const auto& s : samplers) {
             const SceneCurve* c = curveOf(info.name, s.label);
             if (!c) continue;
             const double n = nearest(c->spp, 128);
-            const double e = valueAt(*c, n, false), ec = valueAt(*c, n, true);
-            const double r = randomAt(rnd, n);
+            const Estimate e = estAt(*c, n, 0), ec = estAt(*c, n, 1);
+            const Estimate r = randomAt(rnd, n);
             double secs = NAN;
             for (size_t i = 0; i < c->spp.size(); ++i)
                 if (c->spp[i] == n) secs = c->seconds[i];
-            md << "| " << info.name << " | " << s.label << " | " << n << " | " << sci(e) << " | " << sci(ec) << " | "
-               << (std::isfinite(r) ? fmtF(e / r, 2) : "—") << " | " << (std::isfinite(cmj128) ? fmtF(e / cmj128, 2) : "—")
-               << " | " << fmtF(secs * 1000, 0) << " |\n";
-            if (isOa(s) && e < bestOa) bestOa = e, bestOaName = s.label + "@" + fmtG(n), bestOaRnd = r;
+            md << "| " << info.name << " | " << s.label << " | " << n << " | " << fmtEstimate(e) << " | "
+               << fmtEstimate(ec) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
+               << (s.label == "Random" ? "—" : verdictCell(e, r)) << " | " << fmtRatio(ratioTo(e, cmj128, s.label == "CMJ2D-pad")) << " | "
+               << (s.label == "CMJ2D-pad" ? "—" : verdictCell(e, cmj128)) << " | " << fmtF(secs * 1000, 0) << " |\n";
+            if (isOa(s) && std::isfinite(e.mean) && !(e.mean >= bestOa.mean))
+                bestOa = e, bestOaName = s.label + "@" + fmtG(n), bestOaRnd = r;
         }
-        if (info.name == "cornell7d" && std::isfinite(bestOaRnd) && std::isfinite(cmj128)) {
-            goal7d = bestOa <= 0.5 * bestOaRnd && bestOa < cmj128;
-            goal7dText = "best OA " + bestOaName + ": relMSE " + sci(bestOa) + " = " + fmtF(bestOa / bestOaRnd, 2) +
-                         "× Random at the same spp (goal ≤ 0.50) and " + fmtF(bestOa / cmj128, 2) +
-                         "× CMJ2D-pad@128 (goal < 1)";
+        if (info.name == "cornell7d" && std::isfinite(bestOaRnd.mean) && std::isfinite(cmj128.mean)) {
+            // Goal: best OA <= 0.5 x Random (at its count) and < CMJ2D-pad@128. Each half is "met"
+            // only if compare() separates the numbers, "not met" only if it separates them the other
+            // way; otherwise the goal is a tie.
+            Estimate halfRnd = bestOaRnd;
+            halfRnd.mean *= 0.5;
+            halfRnd.se *= 0.5;
+            const Verdict v1 = compare(bestOa, halfRnd), v2 = compare(bestOa, cmj128);
+            goal7d = v1 == Verdict::FirstLower && v2 == Verdict::FirstLower  ? "met"
+                     : v1 == Verdict::SecondLower || v2 == Verdict::SecondLower ? "not met"
+                                                                                  : "tie (not decided by the error bars)";
+            goal7dText = "best OA (lowest mean) " + bestOaName + ": relMSE " + fmtEstimate(bestOa) + " = " +
+                         fmtRatio(ratioOf(bestOa, bestOaRnd)) + "× Random at the same spp (goal ≤ 0.50: " +
+                         verdictWord(v1) + " than 0.5× Random) and " + fmtRatio(ratioOf(bestOa, cmj128)) +
+                         "× CMJ2D-pad@128 (goal < 1: " + verdictWord(v2) + ")";
         }
     }
     // Side by side with the paper (DESIGN §4: relative MSE, PBRT-v3, per-pixel samplers). Ratios,
@@ -441,39 +549,74 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     md << "\n#### Side by side with the paper\n\n"
        << "The paper's relative MSE (DESIGN §4; CornellBox 7D and BlueSpheres 9D at 121/128 spp, Barcelona 43D "
           "at 3969/4096 spp, where its \"OA\" row is shown against our BoseCMJ) as ratios to its Random and its "
-          "CMJ2D-pad, next to ours at about 128 spp (our Random at the same count as the sampler; our "
-          "interior_deep stands in for Barcelona at 32× fewer samples).\n\n"
+          "CMJ2D-pad, next to ours (± s.e.) at about 128 spp (our Random at the same count as the sampler; our "
+          "interior_deep stands in for Barcelona at 32× fewer samples). The paper gives no error bars.\n\n"
        << "| scene | sampler | paper ÷ Random | ours ÷ Random | paper ÷ CMJ2D-pad | ours ÷ CMJ2D-pad@128 |\n"
           "|---|---|---|---|---|---|\n";
     for (const auto& info : infos) {
         const SceneCurve* rnd = curveOf(info.name, "Random");
-        const double cmj128 = cmj2dAt128(info.name);
+        const Estimate cmj128 = cmj2dAt128(info.name);
         for (const auto& s : samplers) {
             const double pv = paperOf(info.name, s.label);
             const SceneCurve* c = curveOf(info.name, s.label);
             if (!std::isfinite(pv) || !c) continue;
-            const double n = nearest(c->spp, 128), e = valueAt(*c, n, false);
-            const double r = randomAt(rnd, n);
+            const double n = nearest(c->spp, 128);
+            const Estimate e = estAt(*c, n);
+            const Estimate r = randomAt(rnd, n);
             auto ratio = [](double a, double b) { return std::isfinite(a / b) ? fmtF(a / b, 2) : std::string("—"); };
             md << "| " << info.name << " | " << s.label << " | " << ratio(pv, paperOf(info.name, "Random")) << " | "
-               << ratio(e, r) << " | " << ratio(pv, paperOf(info.name, "CMJ2D-pad")) << " | " << ratio(e, cmj128)
-               << " |\n";
+               << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | " << ratio(pv, paperOf(info.name, "CMJ2D-pad")) << " | "
+               << fmtRatio(ratioTo(e, cmj128, s.label == "CMJ2D-pad")) << " |\n";
         }
     }
-    md << "\n**Goal (7D scene at about 121 spp: best OA ≤ 0.50 × Random and below CMJ2D-pad): "
-       << (goal7dText.empty() ? "not measured" : goal7d ? "met" : "not met") << "**";
+    md << "\n**Goal (7D scene at about 121 spp: best OA ≤ 0.50 × Random and below CMJ2D-pad): " << goal7d << "**";
     md << (goal7dText.empty() ? " (cornell7d not studied)" : " — " + goal7dText) << ".\n\n";
+
+    // --- Rare events: the worst pixels ---------------------------------------------------------
+    md << "### Rare events: how much of the error is in the worst pixels\n\n"
+       << "Per render, the worst " << fmtG(100 * kWorstPixelFraction) << "% of pixels by relative squared error "
+          "(at least one pixel) and their contribution to the image's relMSE; \"without\" is the relMSE of the "
+          "rest (the same mean over all pixels, the worst ones' terms left out), each a mean ± s.e. over the same "
+          "renders. A large share means the error is a few rare paths (e.g. a light's corner hit by a small "
+          "fraction of samples) that only more samples tame; where an OA's ratio to Random is lower without "
+          "the worst pixels than with them, stratification helps the bulk of the image and the rare paths hide "
+          "it. At about 128 spp and at the largest common count.\n\n"
+       << "| scene | sampler | spp | relMSE | worst pixels' share | relMSE without them | ÷ Random (all) | "
+          "÷ Random (without) | vs Random (without) |\n|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& info : infos) {
+        const SceneCurve* rnd = curveOf(info.name, "Random");
+        for (double target : {128.0, double(o.maxSpp)}) {
+            for (const auto& s : samplers) {
+                const SceneCurve* c = curveOf(info.name, s.label);
+                if (!c) continue;
+                const double n = nearest(c->spp, target);
+                if (target != 128.0 && n == nearest(c->spp, 128.0)) continue;
+                const Estimate e = estAt(*c, n, 0), rest = estAt(*c, n, 2), worst = estAt(*c, n, 3);
+                const Estimate r = randomAt(rnd, n, 0), rr = randomAt(rnd, n, 2);
+                const Estimate share = ratioOf(worst, Estimate{e.mean + info.refErr, e.se, e.n, e.capped});
+                md << "| " << info.name << " | " << s.label << " | " << n << " | " << fmtEstimate(e) << " | "
+                   << (std::isfinite(share.mean) ? fmtF(100 * share.mean, 0) + "% ± " + fmtF(100 * share.se, 0) + "%"
+                                                 : std::string("—"))
+                   << " | " << fmtEstimate(rest) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
+                   << fmtRatio(ratioTo(rest, rr, s.label == "Random")) << " | " << (s.label == "Random" ? "—" : verdictCell(rest, rr))
+                   << " |\n";
+            }
+        }
+    }
+    md << "\nThe share is of the uncorrected relMSE (the reference's own error is spread over all pixels).\n\n";
 
     // --- Equal time and time to target ---------------------------------------------------------
     // Budgets are fixed before looking at any result: the time Owen-scrambled Sobol takes at 128 spp,
     // and the largest time every sampler's curve reaches (the smallest of their longest renders).
-    int scenesOaWins[2] = {0, 0};
+    int scenesOa[2][3] = {{0, 0, 0}, {0, 0, 0}};  // per budget: best OA lower / tie / higher than Sobol
     md << "### Error at equal time\n\n"
        << "relMSE read off each sampler's measured error-versus-time curve (log-log interpolation between "
           "measured points; — where the budget lies outside the sampler's measured range) at two budgets per "
           "scene: T₁, the time Sobol took at 128 spp, and T₂, the largest budget every sampler's curve reaches (the "
-          "shortest of the samplers' longest renders). Ratios are to Sobol.\n\n"
-       << "| scene | sampler | relMSE @ T₁ | ÷ Sobol | relMSE @ T₂ | ÷ Sobol |\n|---|---|---|---|---|---|\n";
+          "shortest of the samplers' longest renders). Ratios are to Sobol; n is the smaller of the two "
+          "interpolated points' n.\n\n"
+       << "| scene | sampler | relMSE @ T₁ | ÷ Sobol | vs Sobol | relMSE @ T₂ | ÷ Sobol | vs Sobol |\n"
+          "|---|---|---|---|---|---|---|---|\n";
     std::map<std::string, double> budgetOf;  // scene -> T1 (for the images)
     std::ostringstream answer;                // the short answer at the top of the section
     for (const auto& info : infos) {
@@ -486,77 +629,115 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             if (c.scene == info.name && !c.seconds.empty())
                 budgets[1] = std::min(budgets[1], *std::max_element(c.seconds.begin(), c.seconds.end()));
         budgetOf[info.name] = budgets[0];
-        md << "| " << info.name << " | *budgets* | T₁ = " << fmtF(budgets[0] * 1000, 0) << " ms | | T₂ = "
-           << fmtF(budgets[1] * 1000, 0) << " ms | |\n";
-        double sobAt[2], bestOa[2] = {1e300, 1e300};
-        std::vector<std::pair<double, std::string>> ranking[2];
-        std::string bestName[2];
-        for (int b = 0; b < 2; ++b) sobAt[b] = interpLogLog(sob->seconds, sob->relMse, budgets[b]);
+        md << "| " << info.name << " | *budgets* | T₁ = " << fmtF(budgets[0] * 1000, 0) << " ms | | | T₂ = "
+           << fmtF(budgets[1] * 1000, 0) << " ms | | |\n";
+        Estimate sobAt[2], bestOa[2] = {none, none};
+        std::vector<std::pair<Estimate, std::string>> ranking[2];
+        // Curves may be non-monotone in time for tiny renders (noise): sort by time.
+        auto byTime = [](const SceneCurve& c, std::vector<double>& ts, std::vector<Estimate>& es) {
+            std::vector<size_t> idx(c.spp.size());
+            for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+            std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return c.seconds[a] < c.seconds[b]; });
+            for (size_t i : idx) ts.push_back(c.seconds[i]), es.push_back(c.relMseE[i]);
+        };
+        {
+            std::vector<double> ts;
+            std::vector<Estimate> es;
+            byTime(*sob, ts, es);
+            for (int b = 0; b < 2; ++b) sobAt[b] = interpEstimate(ts, es, budgets[b]);
+        }
         for (const auto& s : samplers) {
             const SceneCurve* c = curveOf(info.name, s.label);
             if (!c) continue;
-            // Curves may be non-monotone in time for tiny renders (noise): sort by time.
-            std::vector<std::pair<double, double>> pts;
-            for (size_t i = 0; i < c->spp.size(); ++i) pts.push_back({c->seconds[i], c->relMse[i]});
-            std::sort(pts.begin(), pts.end());
-            std::vector<double> ts, es;
-            for (auto& [t, e] : pts) ts.push_back(t), es.push_back(e);
+            std::vector<double> ts;
+            std::vector<Estimate> es;
+            byTime(*c, ts, es);
             md << "| " << info.name << " | " << s.label;
             for (int b = 0; b < 2; ++b) {
-                const double e = interpLogLog(ts, es, budgets[b]);
-                md << " | " << sci(e) << " | " << (std::isfinite(e) ? fmtF(e / sobAt[b], 2) : "—");
-                if (std::isfinite(e)) ranking[b].push_back({e, s.label});
-                if (isOa(s) && std::isfinite(e) && e < bestOa[b]) bestOa[b] = e, bestName[b] = s.label;
+                const Estimate e = interpEstimate(ts, es, budgets[b]);
+                md << " | " << fmtEstimate(e) << " | " << fmtRatio(ratioTo(e, sobAt[b], s.label == "Sobol")) << " | "
+                   << (s.label == "Sobol" ? "—" : verdictCell(e, sobAt[b]));
+                if (std::isfinite(e.mean)) ranking[b].push_back({e, s.label});
+                if (isOa(s) && std::isfinite(e.mean) && !(e.mean >= bestOa[b].mean)) bestOa[b] = e;
             }
             md << " |\n";
         }
         for (int b = 0; b < 2; ++b)
-            if (bestOa[b] <= sobAt[b]) ++scenesOaWins[b];
+            if (std::isfinite(bestOa[b].mean) && std::isfinite(sobAt[b].mean)) {
+                const Verdict v = compare(bestOa[b], sobAt[b]);
+                ++scenesOa[b][v == Verdict::FirstLower ? 0 : v == Verdict::Tie ? 1 : 2];
+            }
         answer << "| " << info.name << " (" << info.dims << "D)";
         for (int b = 0; b < 2; ++b) {
-            std::sort(ranking[b].begin(), ranking[b].end());
+            std::stable_sort(ranking[b].begin(), ranking[b].end(),
+                             [](const auto& x, const auto& y) { return x.first.mean < y.first.mean; });
             answer << " |";
-            for (size_t i = 0; i < std::min<size_t>(3, ranking[b].size()); ++i)
-                answer << (i ? ", " : " ") << ranking[b][i].second << " " << fmtF(ranking[b][i].first / sobAt[b], 2);
+            for (size_t i = 0; i < std::min<size_t>(3, ranking[b].size()); ++i) {
+                answer << (i ? "; " : " ") << ranking[b][i].second << " "
+                       << fmtRatio(ratioTo(ranking[b][i].first, sobAt[b], ranking[b][i].second == "Sobol"));
+                // A rank is stated only where compare() separates it from the lowest mean.
+                if (i > 0 && compare(ranking[b][0].first, ranking[b][i].first) == Verdict::Tie) answer << " (tie with 1st)";
+            }
         }
         answer << " |\n";
     }
-    const bool goalTime = scenesOaWins[0] >= 2 && scenesOaWins[1] >= 2;
+    // Goal: on at least two of three scenes the best OA is at or below Sobol at both budgets. "at or
+    // below" counts a lower verdict as met and a higher one as missed; ties decide nothing.
+    const int need = 2;
+    std::string goalTime;
+    {
+        bool met = true, missed = false;
+        for (int b = 0; b < 2; ++b) {
+            met = met && scenesOa[b][0] >= need;
+            missed = missed || scenesOa[b][0] + scenesOa[b][1] < need;
+        }
+        goalTime = met ? "met" : missed ? "not met" : "tie (not decided by the error bars)";
+    }
     std::ostringstream head;
     head << "### The short answer: lowest error for the same render time\n\n"
-         << "The three samplers with the lowest relMSE at equal render time on lavapipe, with their error ÷ "
-            "Owen-scrambled Sobol's (below 1: better than Sobol). T₁ is Sobol's time at 128 spp, T₂ the longest "
-            "budget every sampler reached; the tables below give every sampler, the counts, the crops and the "
-            "costs.\n\n| scene | best at T₁ (÷ Sobol) | best at T₂ (÷ Sobol) |\n|---|---|---|\n"
+         << "The three samplers with the lowest mean relMSE at equal render time on lavapipe, with their error ÷ "
+            "Owen-scrambled Sobol's ± s.e. (below 1: better than Sobol); \"tie with 1st\" where the difference to "
+            "the first is within twice the combined s.e. T₁ is Sobol's time at 128 spp, T₂ the longest budget "
+            "every sampler reached; the tables below give every sampler, the counts, n, the crops and the costs.\n\n"
+            "| scene | best at T₁ (÷ Sobol) | best at T₂ (÷ Sobol) |\n|---|---|---|\n"
          << answer.str() << "\n";
-    md << "\n**Goal (at equal time, the best OA at or below Owen-scrambled Sobol on at least two of three scenes): "
-       << (goalTime ? "met" : "not met") << "** — scenes where the best OA is at or below Sobol: " << scenesOaWins[0]
-       << " of " << infos.size() << " at T₁, " << scenesOaWins[1] << " of " << infos.size() << " at T₂.\n\n";
+    md << "\n**Goal (at equal time, the best OA below Owen-scrambled Sobol on at least two of three scenes): "
+       << goalTime << "** — best OA lower / tie / higher than Sobol: " << scenesOa[0][0] << " / " << scenesOa[0][1]
+       << " / " << scenesOa[0][2] << " of " << infos.size() << " scenes at T₁, " << scenesOa[1][0] << " / "
+       << scenesOa[1][1] << " / " << scenesOa[1][2] << " at T₂.\n\n";
 
     md << "### Time to reach a target error\n\n"
        << "Targets per scene: the relMSE Random reaches at 128 spp and at " << o.maxSpp
-       << " spp. Time read off each curve (first crossing, log-log interpolation); ≤ marks a sampler already "
-          "below the target at its smallest count, > one that does not reach it within the measured range.\n\n"
-       << "| scene | sampler | time to target 1 (ms) | ÷ Random | time to target 2 (ms) | ÷ Random |\n|---|---|---|---|---|---|\n";
+       << " spp (means; their s.e. enter the times' s.e.). Time read off each curve (first crossing of the means, "
+          "log-log interpolation) ± a delta-method s.e.; ≤ marks a sampler already below the target at its "
+          "smallest count (a bound, no s.e.), > one that does not reach it within the measured range.\n\n"
+       << "| scene | sampler | time to target 1 (ms) | ÷ Random | vs Random | time to target 2 (ms) | ÷ Random | vs Random |\n"
+          "|---|---|---|---|---|---|---|---|\n";
     for (const auto& info : infos) {
         const SceneCurve* rnd = curveOf(info.name, "Random");
         if (!rnd) continue;
-        const double targets[2] = {valueAt(*rnd, 128, false), valueAt(*rnd, o.maxSpp, false)};
-        double rndTime[2];
-        for (int b = 0; b < 2; ++b) rndTime[b] = firstCrossing(rnd->seconds, rnd->relMse, targets[b]).x;
-        md << "| " << info.name << " | *targets* | relMSE " << sci(targets[0]) << " | | relMSE " << sci(targets[1])
-           << " | |\n";
+        const Estimate targets[2] = {estAt(*rnd, 128), estAt(*rnd, o.maxSpp)};
+        CrossingEstimate rndTime[2];
+        for (int b = 0; b < 2; ++b) rndTime[b] = firstCrossing(rnd->seconds, rnd->relMseE, targets[b]);
+        md << "| " << info.name << " | *targets* | relMSE " << fmtEstimate(targets[0]) << " | | | relMSE "
+           << fmtEstimate(targets[1]) << " | | |\n";
         for (const auto& s : samplers) {
             const SceneCurve* c = curveOf(info.name, s.label);
             if (!c) continue;
             md << "| " << info.name << " | " << s.label;
             for (int b = 0; b < 2; ++b) {
-                const Crossing x = firstCrossing(c->seconds, c->relMse, targets[b]);
-                if (!x.found)
-                    md << " | > " << fmtF(c->seconds.back() * 1000, 0) << " | —";
-                else
-                    md << " | " << (x.atFirst ? "≤ " : "") << fmtF(x.x * 1000, 0) << " | "
-                       << fmtF(x.x / rndTime[b], 2);
+                const CrossingEstimate x = firstCrossing(c->seconds, c->relMseE, targets[b]);
+                if (!x.crossing.found) {
+                    md << " | > " << fmtF(c->seconds.back() * 1000, 0) << " | — | —";
+                    continue;
+                }
+                Estimate ms = x.x;
+                ms.mean *= 1000;
+                ms.se *= 1000;
+                md << " | " << (x.crossing.atFirst ? "≤ " + fmtF(ms.mean, 0) + " (n=" + std::to_string(ms.n) + ")"
+                                                   : fmtEstimate(ms, 3))
+                   << " | " << fmtRatio(ratioTo(x.x, rndTime[b].x, s.label == "Random")) << " | "
+                   << (s.label == "Random" || x.crossing.atFirst ? "—" : verdictCell(x.x, rndTime[b].x));
             }
             md << " |\n";
         }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "experiment.hpp"
+#include "stats.hpp"
 #include "vk/context.hpp"
 #include "image/metrics.hpp"
 
@@ -33,7 +34,14 @@ struct SceneStudyOptions {
     std::uint32_t width = 64;         ///< render width; the height keeps the scene's aspect
     std::uint32_t minSpp = 16, maxSpp = 1024;
     std::uint32_t referenceSpp = 65536;  ///< Sobol reference, rendered as two independent halves
-    std::uint32_t trials = 2;            ///< independent renders (user seeds) per (sampler, spp)
+    /// Independent renders (new user seeds) per (sampler, spp), chosen adaptively: at least
+    /// minTrials, then one more at a time until the s.e. of the full-image and of the crop relMSE
+    /// are both <= relSeTarget × their mean, or maxTrials (the cap, marked in the tables).
+    std::uint32_t minTrials = 8, maxTrials = 64;
+    double relSeTarget = 0.1;
+    /// Render-time budget per (sampler, spp) in seconds, a second cap (0: none): once minTrials are
+    /// done and the renders of the point took this long, no more are added (marked like the cap).
+    double maxSecondsPerPoint = 0;
     std::string outDir = "docs/study";
     std::string command;  ///< how the study was invoked (for the markdown)
     bool quick = false;
@@ -46,16 +54,35 @@ struct SceneMeasurement {
     double seconds = 0;           ///< wall-clock time of the render's dispatches (pipeline build excluded)
     double relMse = 0, relMseCrop = 0;  ///< against the reference, minus the reference's own error
     double relMseRaw = 0, relMseCropRaw = 0;  ///< uncorrected
+    /// The part of relMseRaw that comes from the render's worst pixels (the top 0.1% by their
+    /// relative squared error, at least one pixel): relMse − relMseWorst is the rest of the image.
+    double relMseWorst = 0;
 };
 
-/// A sampler's curve on one scene: per spp, the median time and the mean relMSE over trials.
+/// Share of the worst pixels: fraction of the image (0.1%), at least one pixel.
+inline constexpr double kWorstPixelFraction = 0.001;
+
+/// Per-pixel relative squared error, the mean over R, G, B of (I − R)² / (R² + eps), as
+/// oas::image::compare sums it (its mean over pixels is compare's relMse).
+std::vector<double> pixelRelErrors(const oas::image::Image& image, const oas::image::Image& reference,
+                                   double relEpsilon = 1e-2);
+/// The contribution to the image's relMSE (mean over all pixels) of its max(1, ceil(fraction × P))
+/// largest per-pixel errors.
+double worstPixelsContribution(std::vector<double> pixelErrors, double fraction = kWorstPixelFraction);
+
+/// A sampler's curve on one scene: per spp, the median time and the mean relMSE over trials, with
+/// the estimates (mean, s.e., n) behind them.
 struct SceneCurve {
     std::string scene, sampler;
     std::vector<double> spp, seconds, relMse, relMseCrop;
+    std::vector<Estimate> relMseE, relMseCropE;
+    std::vector<Estimate> relMseRestE;  ///< relMSE without each render's worst 0.1% of pixels
+    std::vector<Estimate> worstE;       ///< the worst pixels' contribution
 };
 
-/// Mean over trials / median time per (scene, sampler, spp), in ladder order.
-std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements);
+/// Mean over trials (with s.e.) / median time per (scene, sampler, spp), in ladder order; `capped`
+/// marks each estimate whose s.e. is above relSeTarget × mean (the adaptive loop hit its cap).
+std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements, double relSeTarget = 0.1);
 
 /// Runs the scene study on the Vulkan device and writes outDir/scenes.csv, scene_curves.csv,
 /// scene_tables.md (the markdown section that STUDY.md includes), reference and equal-time error

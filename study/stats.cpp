@@ -193,3 +193,166 @@ double median(std::vector<double> v)
 }
 
 }  // namespace oas::study
+
+namespace oas::study {
+
+double Estimate::relSe() const
+{
+    if (n == 0 || !std::isfinite(mean)) return std::numeric_limits<double>::quiet_NaN();
+    return mean == 0 ? std::numeric_limits<double>::infinity() : se / std::abs(mean);
+}
+
+Estimate estimateOf(const std::vector<double>& values)
+{
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    Estimate e;
+    e.n = std::uint32_t(values.size());
+    if (values.empty()) {
+        e.mean = e.se = nan;
+        return e;
+    }
+    double m = 0;
+    for (double v : values) m += v;
+    m /= double(values.size());
+    e.mean = m;
+    if (values.size() < 2) {
+        e.se = nan;
+        return e;
+    }
+    // Two-pass sum of squared deviations (numerically stable for the tiny, similar relMSEs here).
+    double ss = 0;
+    for (double v : values) ss += (v - m) * (v - m);
+    e.se = std::sqrt(ss / double(values.size() - 1) / double(values.size()));
+    return e;
+}
+
+Verdict compare(const Estimate& a, const Estimate& b)
+{
+    const double d = a.mean - b.mean, band = 2 * std::sqrt(a.se * a.se + b.se * b.se);
+    if (!std::isfinite(d) || !std::isfinite(band)) return Verdict::Tie;
+    if (std::abs(d) <= band) return Verdict::Tie;
+    return d < 0 ? Verdict::FirstLower : Verdict::SecondLower;
+}
+
+std::string verdictWord(Verdict v)
+{
+    switch (v) {
+    case Verdict::FirstLower: return "lower";
+    case Verdict::SecondLower: return "higher";
+    default: return "tie";
+    }
+}
+
+Estimate ratioOf(const Estimate& a, const Estimate& b)
+{
+    Estimate r;
+    r.mean = a.mean / b.mean;
+    const double ra = a.se / a.mean, rb = b.se / b.mean;
+    r.se = std::abs(r.mean) * std::sqrt(ra * ra + rb * rb);
+    r.n = std::min(a.n, b.n);
+    r.capped = a.capped || b.capped;
+    return r;
+}
+
+std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw,
+                                          std::size_t targeted, const AdaptiveOptions& o)
+{
+    const std::uint32_t nMax = std::max<std::uint32_t>(1, o.nMax), nMin = std::clamp<std::uint32_t>(o.nMin, 1, nMax);
+    std::vector<AdaptiveResult> r;
+    std::uint32_t n = 0;
+    auto addOne = [&] {
+        const std::vector<double> v = draw(n++);
+        if (r.empty()) r.resize(v.size());
+        if (v.size() != r.size() || v.size() < targeted)
+            throw std::invalid_argument("adaptiveMeans: a draw returned " + std::to_string(v.size()) + " values");
+        for (size_t k = 0; k < v.size(); ++k) r[k].values.push_back(v[k]);
+    };
+    // relSe() is NaN for n = 1 and infinite for a zero mean: both keep drawing (the test is false).
+    auto met = [&] {
+        for (size_t k = 0; k < targeted; ++k)
+            if (!(estimateOf(r[k].values).relSe() <= o.relTarget)) return false;
+        return true;
+    };
+    while (n < nMin) addOne();
+    while (n < nMax && !met() && !(o.budgetSpent && o.budgetSpent())) addOne();
+    for (size_t k = 0; k < r.size(); ++k) {
+        r[k].estimate = estimateOf(r[k].values);
+        // Marked per quantity: the cap stopped the loop before this quantity's s.e. met the target.
+        r[k].estimate.capped = !(r[k].estimate.relSe() <= o.relTarget);
+    }
+    return r;
+}
+
+AdaptiveResult adaptiveMean(const std::function<double(std::uint32_t)>& draw, const AdaptiveOptions& o)
+{
+    return adaptiveMeans([&](std::uint32_t i) { return std::vector<double>{draw(i)}; }, 1, o).front();
+}
+
+CrossingEstimate firstCrossing(const std::vector<double>& x, const std::vector<Estimate>& y, const Estimate& target)
+{
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    CrossingEstimate c;
+    std::vector<double> means;
+    for (const auto& v : y) means.push_back(v.mean);
+    c.crossing = firstCrossing(x, means, target.mean);
+    c.x.mean = c.crossing.found ? c.crossing.x : nan;
+    c.x.se = nan;
+    if (c.crossing.found && c.crossing.atFirst) c.x.n = y.front().n, c.x.capped = y.front().capped;
+    if (!c.crossing.found || c.crossing.atFirst) return c;
+    size_t i = 0;  // the crossed segment, as firstCrossing finds it
+    while (i + 1 < x.size() && !(means[i] > target.mean && means[i + 1] <= target.mean)) ++i;
+    // Position u of the crossing on the segment in log x, computed directly (not by interpEstimate:
+    // measured times need not be ascending, e.g. Random's 121 and 128 spp renders).
+    const double lx = std::log(x[i + 1] / x[i]);
+    const double u = lx != 0 ? std::clamp(std::log(c.crossing.x / x[i]) / lx, 0.0, 1.0) : 0.0;
+    const double ri = (1 - u) * y[i].se / y[i].mean, rj = u * y[i + 1].se / y[i + 1].mean;
+    const double b = lx != 0 ? std::log(means[i + 1] / means[i]) / lx : nan;
+    const double rt = target.se / target.mean;
+    c.x.se = c.crossing.x * std::sqrt(ri * ri + rj * rj + rt * rt) / std::abs(b);
+    c.x.n = u <= 0 ? y[i].n : u >= 1 ? y[i + 1].n : std::min(y[i].n, y[i + 1].n);
+    c.x.capped = (u < 1 && y[i].capped) || (u > 0 && y[i + 1].capped);
+    return c;
+}
+
+Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate>& y, double at)
+{
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    Estimate e;
+    e.mean = e.se = nan;
+    if (x.size() != y.size() || x.empty() || !(at > 0)) return e;
+    std::vector<double> means;
+    for (const auto& v : y) means.push_back(v.mean);
+    e.mean = interpLogLog(x, means, at);
+    if (!std::isfinite(e.mean)) return e;
+    // The bracketing pair (the same search as interpLogLog).
+    size_t i = 0;
+    while (i + 1 < x.size() && at > x[i + 1]) ++i;
+    const size_t j = std::min(i + 1, x.size() - 1);
+    const double u = j == i ? 0.0 : std::clamp(std::log(at / x[i]) / std::log(x[j] / x[i]), 0.0, 1.0);
+    const double ri = (1 - u) * y[i].se / y[i].mean, rj = u * y[j].se / y[j].mean;
+    e.se = e.mean * std::sqrt(ri * ri + (u > 0 ? rj * rj : 0.0));
+    e.n = u <= 0 ? y[i].n : u >= 1 ? y[j].n : std::min(y[i].n, y[j].n);
+    e.capped = (u < 1 && y[i].capped) || (u > 0 && y[j].capped);
+    return e;
+}
+
+std::string fmtEstimate(const Estimate& e, int digits)
+{
+    if (!std::isfinite(e.mean)) return "—";
+    std::string s = fmtG(e.mean, digits);
+    if (std::isfinite(e.se)) s += " ± " + fmtG(e.se, 2);
+    s += " (n=" + std::to_string(e.n);
+    if (e.capped) {
+        const double rel = e.relSe();
+        s += std::string(", cap; s.e. ") + (std::isfinite(rel) ? fmtF(100 * rel, 0) + "%" : "unknown");
+    }
+    return s + ")";
+}
+
+std::string fmtRatio(const Estimate& r, int decimals)
+{
+    if (!std::isfinite(r.mean)) return "—";
+    return fmtF(r.mean, decimals) + (std::isfinite(r.se) ? " ± " + fmtF(r.se, decimals) : "");
+}
+
+}  // namespace oas::study

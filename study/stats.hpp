@@ -1,6 +1,8 @@
 #pragma once
 // Statistics and output helpers of the study: log-log slope fits with t confidence intervals,
 // and a minimal CSV table writer.
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,6 +43,78 @@ Crossing firstCrossing(const std::vector<double>& x, const std::vector<double>& 
 /// A well-mixed 32-bit seed from up to four small integers (distinct trials, samplers, counts get
 /// unrelated randomizations).
 std::uint32_t mixSeed(std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d = 0);
+
+/// A mean over n independent draws with its standard error s.e. = sd / sqrt(n), sd the sample
+/// standard deviation with n − 1 in the denominator (the usual unbiased variance; e.g. Rice,
+/// "Mathematical Statistics and Data Analysis", §7.3). The study reports every relMSE as one.
+struct Estimate {
+    double mean = 0, se = 0;
+    std::uint32_t n = 0;
+    bool capped = false;  ///< the adaptive loop stopped at its cap before s.e. <= target × |mean|
+    /// s.e. ÷ |mean| (infinite for a zero mean, NaN without data).
+    double relSe() const;
+};
+
+/// Mean and standard error of the values (n = 1: s.e. NaN, unknown; empty: mean and s.e. NaN).
+Estimate estimateOf(const std::vector<double>& values);
+
+/// The verdict between two estimates of an error (lower is better): a difference counts only where
+/// |a − b| > 2 sqrt(se_a² + se_b²), i.e. about a two-sided 95% test of equal means for independent
+/// estimates (normal approximation); anything closer, or with an unknown s.e., is a tie.
+enum class Verdict { Tie, FirstLower, SecondLower };
+Verdict compare(const Estimate& a, const Estimate& b);
+/// "a < b", "a > b" as text for tables: "lower", "higher", "tie".
+std::string verdictWord(Verdict v);
+
+/// a / b with the first-order (delta-method) standard error r sqrt((se_a/a)² + (se_b/b)²), for
+/// independent a and b; n is the smaller of the two, capped if either is.
+Estimate ratioOf(const Estimate& a, const Estimate& b);
+
+/// Adaptive number of independent draws per point: draw(i) returns draw i (i = 0, 1, ...; the
+/// caller gives each its own seed). Takes nMin draws, then one more at a time while
+/// s.e. > relTarget × |mean| and n < nMax; `capped` says the cap stopped it. Stopping on the s.e.
+/// itself biases the s.e. low a little (the loop stops on a lucky stretch), which nMin limits.
+struct AdaptiveOptions {
+    double relTarget = 0.1;
+    std::uint32_t nMin = 8, nMax = 64;
+    /// Optional second cap, checked after each draw once nMin are done (e.g. a time budget per
+    /// point): true stops the loop; an estimate that misses the target is marked capped as well.
+    std::function<bool()> budgetSpent;
+};
+struct AdaptiveResult {
+    Estimate estimate;
+    std::vector<double> values;  ///< every draw, in order
+};
+AdaptiveResult adaptiveMean(const std::function<double(std::uint32_t)>& draw, const AdaptiveOptions& options);
+/// The same for draws of several quantities at once (e.g. a render's full-image and crop relMSE):
+/// keeps drawing while any of the first `targeted` quantities misses the target (the others are
+/// carried along, e.g. the worst pixels' share); returns one result per quantity, all with the
+/// same n. Every draw must return the same number of values (>= targeted).
+std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw,
+                                          std::size_t targeted, const AdaptiveOptions& options);
+
+/// Piecewise log-log interpolation (as interpLogLog) of estimates: the mean is interpLogLog's, the
+/// s.e. by the delta method on log y = (1 − u) log y_i + u log y_{i+1} for independent points:
+/// se(log y) = sqrt(((1 − u) se_i/y_i)² + (u se_{i+1}/y_{i+1})²), se = y se(log y); n the smaller of
+/// the two neighbours', capped if either is. Timing noise in x is not included.
+Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate>& y, double at);
+
+/// Where a curve of estimates first comes down to a target estimate (firstCrossing on the means),
+/// with a delta-method s.e. of the crossing time: on the crossed segment log y = a + b log x, so
+/// se(log x) = sqrt(se(log y)² + (se_target/target)²) / |b|, se(log y) interpolated as in
+/// interpEstimate; se = x se(log x). NaN s.e. when the crossing is at the first point (a bound) or
+/// not found.
+struct CrossingEstimate {
+    Crossing crossing;
+    Estimate x;  ///< mean = crossing.x
+};
+CrossingEstimate firstCrossing(const std::vector<double>& x, const std::vector<Estimate>& y, const Estimate& target);
+
+/// "1.23e-03 ± 8.1e-05 (n=16)", with " cap, s.e. 14%" inside the brackets when the cap was hit
+/// before the s.e. target; "—" for a non-finite mean.
+std::string fmtEstimate(const Estimate& e, int digits = 3);
+/// A ratio with its s.e.: "0.52 ± 0.04"; "—" when not finite.
+std::string fmtRatio(const Estimate& r, int decimals = 2);
 
 /// Median of the values (NaN when empty).
 double median(std::vector<double> v);

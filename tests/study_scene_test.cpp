@@ -119,6 +119,49 @@ TEST(StudyCurves, CurvesAverageErrorsAndTakeMedianTimes)
     EXPECT_EQ(curves[1].relMse[0], 0.9);
 }
 
+TEST(StudyCurves, CurvesCarryStandardErrorsAndTheCap)
+{
+    std::vector<SceneMeasurement> ms;
+    for (std::uint32_t t = 0; t < 4; ++t) {
+        SceneMeasurement m;
+        m.scene = "s";
+        m.sampler = "A";
+        m.spp = 16;
+        m.trial = t;
+        m.seconds = 1;
+        m.relMse = 1.0 + (t % 2 ? 0.5 : -0.5);  // sd = sqrt(1/3), s.e. = sqrt(1/12) = 29% of the mean
+        m.relMseCrop = 2.0;                     // no spread: s.e. 0
+        m.relMseWorst = 0.25;
+        ms.push_back(m);
+    }
+    const auto c = curvesOf(ms, 0.1).front();
+    EXPECT_EQ(c.relMseE[0].n, 4u);
+    EXPECT_NEAR(c.relMseE[0].se, std::sqrt(1.0 / 12), 1e-12);
+    EXPECT_TRUE(c.relMseE[0].capped);
+    EXPECT_FALSE(c.relMseCropE[0].capped);
+    EXPECT_NEAR(c.relMseRestE[0].mean, 0.75, 1e-12);
+    EXPECT_NEAR(c.worstE[0].mean, 0.25, 1e-12);
+}
+
+TEST(StudyCurves, WorstPixelsContribution)
+{
+    // 2000 pixels, one of them 1000x the rest: top 0.1% = 2 pixels (ceil).
+    std::vector<double> e(2000, 1e-3);
+    e[7] = 1.0;
+    e[1500] = 0.5;
+    EXPECT_NEAR(worstPixelsContribution(e), (1.0 + 0.5) / 2000, 1e-15);
+    // At least one pixel, even for tiny images.
+    EXPECT_NEAR(worstPixelsContribution({0.1, 0.3, 0.2}), 0.3 / 3, 1e-15);
+    // Per-pixel errors average to compare()'s relMSE.
+    oas::image::Image ref(4, 2, 0.5f, 0.25f, 1.0f), img(4, 2, 0.6f, 0.25f, 0.9f);
+    img.pixel(3, 1)[1] = 2.0f;
+    const auto pe = pixelRelErrors(img, ref);
+    ASSERT_EQ(pe.size(), 8u);
+    double mean = 0;
+    for (double v : pe) mean += v / pe.size();
+    EXPECT_NEAR(mean, oas::image::compare(img, ref).relMse, 1e-12);
+}
+
 class StudyGpu : public oas::test::GpuTest {};
 
 TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
@@ -132,7 +175,8 @@ TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
     o.minSpp = 16;
     o.maxSpp = 128;
     o.referenceSpp = 1024;
-    o.trials = 2;
+    o.minTrials = 2;  // a fixed n = 2: the adaptive loop stops at its cap, and the tables mark it
+    o.maxTrials = 2;
     o.outDir = dir.string();
     o.command = "test";
     const std::string md = runSceneStudy(o, {specOf("Random"), specOf("Sobol")}, context());
@@ -145,7 +189,7 @@ TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
         std::stringstream ss(rows[i]);
         std::vector<std::string> cells;
         for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-        ASSERT_EQ(cells.size(), 10u) << rows[i];
+        ASSERT_EQ(cells.size(), 11u) << rows[i];
         const double seconds = std::stod(cells[5]), rel = std::stod(cells[6]);
         EXPECT_GT(seconds, 0);
         EXPECT_TRUE(std::isfinite(rel));
@@ -166,6 +210,12 @@ TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
     EXPECT_TRUE(std::filesystem::exists(dir / "scenes" / "cornell7d_reference.png"));
     EXPECT_TRUE(std::filesystem::exists(dir / "scenes" / "cornell7d_Random_error.png"));
     EXPECT_EQ(lines((dir / "scene_equal_time.csv").string()).size(), 3u);  // header + 2 samplers
+    // Every relMSE carries its n, and the worst-pixel table is there.
+    EXPECT_NE(md.find("(n=2"), std::string::npos);
+    EXPECT_NE(md.find("### Rare events"), std::string::npos);
+    const auto curveRows = lines((dir / "scene_curves.csv").string());
+    ASSERT_GT(curveRows.size(), 1u);
+    EXPECT_NE(curveRows[0].find("rel_mse_se"), std::string::npos);
 }
 
 TEST_F(StudyGpu, TinyCostRunMeasuresEverySampler)

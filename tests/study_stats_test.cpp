@@ -1,0 +1,235 @@
+// The study's error-bar logic on synthetic data: the standard error of a mean (hand-computed and
+// against a known variance), the verdict rule (a tie while the intervals overlap), the adaptive
+// number of draws (stops at s.e. <= 10% of the mean, reports the cap otherwise), and the
+// propagation of s.e. through ratios and log-log interpolation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "stats.hpp"
+
+using namespace oas::study;
+
+namespace {
+Estimate est(double mean, double se, std::uint32_t n = 16)
+{
+    Estimate e;
+    e.mean = mean;
+    e.se = se;
+    e.n = n;
+    return e;
+}
+}  // namespace
+
+TEST(StudyStats, StandardErrorOfASmallSetByHand)
+{
+    // {1, 2, 3, 4, 5}: mean 3, squared deviations 4+1+0+1+4 = 10, sample variance 10/4 = 2.5,
+    // s.e. = sqrt(2.5 / 5) = sqrt(0.5).
+    const Estimate e = estimateOf({1, 2, 3, 4, 5});
+    EXPECT_EQ(e.n, 5u);
+    EXPECT_DOUBLE_EQ(e.mean, 3);
+    EXPECT_NEAR(e.se, std::sqrt(0.5), 1e-15);
+    EXPECT_NEAR(e.relSe(), std::sqrt(0.5) / 3, 1e-15);
+    // Constant values: s.e. 0; one value: s.e. unknown; none: nothing known.
+    EXPECT_EQ(estimateOf({2, 2, 2}).se, 0);
+    EXPECT_TRUE(std::isnan(estimateOf({7}).se));
+    EXPECT_EQ(estimateOf({7}).mean, 7);
+    EXPECT_TRUE(std::isnan(estimateOf({}).mean));
+    EXPECT_EQ(estimateOf({}).n, 0u);
+}
+
+TEST(StudyStats, KnownVarianceGivesTheStatedStandardError)
+{
+    // n draws of N(5, sd = 2): the s.e. estimate is sd_hat / sqrt(n), and sd_hat is within a few
+    // per cent of 2 for n = 20000 (its own relative s.e. is about 1 / sqrt(2n) = 0.5%).
+    std::mt19937_64 rng(12345);
+    std::normal_distribution<double> g(5.0, 2.0);
+    const std::uint32_t n = 20000;
+    std::vector<double> v(n);
+    for (auto& x : v) x = g(rng);
+    const Estimate e = estimateOf(v);
+    const double expected = 2.0 / std::sqrt(double(n));
+    EXPECT_NEAR(e.se, expected, 0.03 * expected);
+    EXPECT_NEAR(e.mean, 5.0, 4 * expected);
+
+    // And the s.e. means what it says: over 4000 repeated means of 16 exponential(1) draws (sd 1),
+    // the spread of the means is 1/4, and the stated s.e.² is unbiased for the variance of a mean,
+    // E[s²/n] = σ²/n = 1/16, for any distribution (s.e. itself is biased low for small n).
+    std::exponential_distribution<double> ex(1.0);
+    std::vector<double> means, se2;
+    for (int r = 0; r < 4000; ++r) {
+        std::vector<double> w(16);
+        for (auto& x : w) x = ex(rng);
+        const Estimate m = estimateOf(w);
+        means.push_back(m.mean);
+        se2.push_back(m.se * m.se);
+    }
+    const double sdOfMeans = estimateOf(means).se * std::sqrt(double(means.size()));
+    EXPECT_NEAR(sdOfMeans, 0.25, 0.01);
+    EXPECT_NEAR(estimateOf(se2).mean, 1.0 / 16, 0.004);
+}
+
+TEST(StudyStats, VerdictIsATieWhileTheIntervalsOverlap)
+{
+    // Combined s.e. sqrt(0.3² + 0.4²) = 0.5: a difference must exceed 1.0 to count.
+    EXPECT_EQ(compare(est(10, 0.3), est(10.9, 0.4)), Verdict::Tie);
+    EXPECT_EQ(compare(est(10, 0.3), est(11.0, 0.4)), Verdict::Tie);  // exactly 2 s.e.: still a tie
+    EXPECT_EQ(compare(est(10, 0.3), est(11.1, 0.4)), Verdict::FirstLower);
+    EXPECT_EQ(compare(est(11.1, 0.3), est(10, 0.4)), Verdict::SecondLower);
+    // The same means with smaller error bars flip from tie to a win.
+    EXPECT_EQ(compare(est(1.0, 0.2), est(1.3, 0.2)), Verdict::Tie);
+    EXPECT_EQ(compare(est(1.0, 0.05), est(1.3, 0.05)), Verdict::FirstLower);
+    // Unknown s.e. (one draw) or missing values: no verdict.
+    EXPECT_EQ(compare(est(1, NAN), est(5, 0.01)), Verdict::Tie);
+    EXPECT_EQ(compare(est(NAN, 0.1), est(5, 0.01)), Verdict::Tie);
+    EXPECT_EQ(verdictWord(Verdict::Tie), "tie");
+    EXPECT_EQ(verdictWord(Verdict::FirstLower), "lower");
+}
+
+TEST(StudyStats, AdaptiveDrawsStopAtTenPerCent)
+{
+    // Draws alternate 1 - a, 1 + a: mean 1, sample sd close to a, s.e. ~ a / sqrt(n). With a = 0.5
+    // the s.e. reaches 0.1 at about n = 25, well under the cap.
+    const double a = 0.5;
+    std::uint32_t calls = 0;
+    auto draw = [&](std::uint32_t i) {
+        EXPECT_EQ(i, calls);  // draws are numbered in order, each asked for once
+        ++calls;
+        return i % 2 ? 1 + a : 1 - a;
+    };
+    AdaptiveOptions o;
+    o.relTarget = 0.1;
+    o.nMin = 4;
+    o.nMax = 200;
+    const AdaptiveResult r = adaptiveMean(draw, o);
+    EXPECT_FALSE(r.estimate.capped);
+    EXPECT_LE(r.estimate.relSe(), 0.1);
+    EXPECT_EQ(r.values.size(), r.estimate.n);
+    EXPECT_EQ(calls, r.estimate.n);
+    // The first n at which s.e. <= 0.1: one fewer draw would not have been enough.
+    std::vector<double> fewer(r.values.begin(), r.values.end() - 1);
+    EXPECT_GT(estimateOf(fewer).relSe(), 0.1);
+    EXPECT_GE(r.estimate.n, 20u);
+    EXPECT_LE(r.estimate.n, 30u);
+
+    // Zero spread: stops at nMin.
+    const AdaptiveResult flat = adaptiveMean([](std::uint32_t) { return 3.0; }, o);
+    EXPECT_EQ(flat.estimate.n, 4u);
+    EXPECT_FALSE(flat.estimate.capped);
+}
+
+TEST(StudyStats, AdaptiveDrawsReportTheCap)
+{
+    // A rare event: 1 draw in 50 is 100, the rest 0.01. The s.e. stays far above 10% of the mean
+    // for 16 draws, so the loop stops at the cap and says so.
+    AdaptiveOptions o;
+    o.nMin = 4;
+    o.nMax = 16;
+    const AdaptiveResult r = adaptiveMean([](std::uint32_t i) { return i % 50 == 3 ? 100.0 : 0.01; }, o);
+    EXPECT_EQ(r.estimate.n, 16u);
+    EXPECT_TRUE(r.estimate.capped);
+    EXPECT_GT(r.estimate.relSe(), 0.1);
+    const std::string text = fmtEstimate(r.estimate);
+    EXPECT_NE(text.find("n=16"), std::string::npos) << text;
+    EXPECT_NE(text.find("cap"), std::string::npos) << text;
+    // A zero mean never reaches a relative target: capped, not a division by zero.
+    const AdaptiveResult zero = adaptiveMean([](std::uint32_t) { return 0.0; }, o);
+    EXPECT_TRUE(zero.estimate.capped);
+    EXPECT_EQ(zero.estimate.n, 16u);
+}
+
+TEST(StudyStats, FormatsCarryTheErrorBarAndN)
+{
+    EXPECT_EQ(fmtEstimate(est(0.0123, 0.0008, 16)), "0.0123 ± 0.0008 (n=16)");
+    Estimate c = est(1.0, 0.14, 64);
+    c.capped = true;
+    EXPECT_EQ(fmtEstimate(c), "1 ± 0.14 (n=64, cap; s.e. 14%)");
+    EXPECT_EQ(fmtEstimate(est(NAN, 0)), "—");
+    EXPECT_EQ(fmtRatio(est(0.5, 0.04)), "0.50 ± 0.04");
+}
+
+TEST(StudyStats, RatioAndInterpolationPropagateTheError)
+{
+    // Delta method: r = 2/4 = 0.5, relative s.e. sqrt(0.1² + 0.05²).
+    const Estimate r = ratioOf(est(2, 0.2, 8), est(4, 0.2, 32));
+    EXPECT_DOUBLE_EQ(r.mean, 0.5);
+    EXPECT_NEAR(r.se, 0.5 * std::sqrt(0.01 + 0.0025), 1e-15);
+    EXPECT_EQ(r.n, 8u);
+    // Halfway (in log) between two points of 10% relative s.e. each: sqrt(0.05² + 0.05²) relative.
+    const std::vector<double> x = {1, 4};
+    const std::vector<Estimate> y = {est(1, 0.1, 10), est(0.25, 0.025, 20)};
+    const Estimate mid = interpEstimate(x, y, 2);
+    EXPECT_NEAR(mid.mean, 0.5, 1e-12);
+    EXPECT_NEAR(mid.se / mid.mean, std::sqrt(2 * 0.05 * 0.05), 1e-12);
+    EXPECT_EQ(mid.n, 10u);
+    // At a measured point: that point's estimate.
+    const Estimate end = interpEstimate(x, y, 4);
+    EXPECT_NEAR(end.mean, 0.25, 1e-15);
+    EXPECT_NEAR(end.se, 0.025, 1e-15);
+    EXPECT_EQ(end.n, 20u);
+    EXPECT_TRUE(std::isnan(interpEstimate(x, y, 8).mean));
+}
+
+TEST(StudyStats, JointAdaptiveDrawsWaitForEveryTargetedQuantity)
+{
+    // Quantity 0 is constant (met at nMin); quantity 1 alternates 1 ± 0.5 (needs ~26 draws);
+    // quantity 2 is carried along untargeted and would never meet the target.
+    AdaptiveOptions o;
+    o.nMin = 4;
+    o.nMax = 100;
+    const auto r = adaptiveMeans(
+        [](std::uint32_t i) { return std::vector<double>{2.0, i % 2 ? 1.5 : 0.5, i == 0 ? 1e6 : 0.0}; }, 2, o);
+    ASSERT_EQ(r.size(), 3u);
+    EXPECT_EQ(r[0].estimate.n, r[1].estimate.n);
+    EXPECT_GE(r[1].estimate.n, 20u);
+    EXPECT_FALSE(r[0].estimate.capped);
+    EXPECT_FALSE(r[1].estimate.capped);
+    EXPECT_TRUE(r[2].estimate.capped);  // marked, but it did not drive the loop to the cap
+    EXPECT_LT(r[2].estimate.n, 100u);
+}
+
+TEST(StudyStats, CrossingTimeCarriesAnErrorBar)
+{
+    // y = 1/x through (1, 1) and (4, 0.25), slope b = -1: the target 0.5 is crossed at x = 2, and
+    // se(log x) = sqrt(se(log y)² + se(log target)²) / 1.
+    const std::vector<Estimate> y = {est(1, 0.1, 10), est(0.25, 0.025, 10)};
+    const auto c = firstCrossing(std::vector<double>{1, 4}, y, est(0.5, 0.05, 10));
+    ASSERT_TRUE(c.crossing.found);
+    EXPECT_NEAR(c.x.mean, 2, 1e-12);
+    EXPECT_NEAR(c.x.se / 2, std::sqrt(2 * 0.05 * 0.05 + 0.1 * 0.1), 1e-12);
+    // Below the target at the first point: a bound without an error bar.
+    const auto first = firstCrossing(std::vector<double>{1, 4}, y, est(2, 0.1, 10));
+    EXPECT_TRUE(first.crossing.atFirst);
+    EXPECT_TRUE(std::isnan(first.x.se));
+}
+
+TEST(StudyStats, AdaptiveDrawsStopAtTheBudgetToo)
+{
+    // The rare-event draws never reach 10%; a budget of 6 draws ("seconds") stops the loop before
+    // the cap of 100, after the minimum, and the estimate is marked capped.
+    AdaptiveOptions o;
+    o.nMin = 4;
+    o.nMax = 100;
+    std::uint32_t spent = 0;
+    o.budgetSpent = [&] { return spent >= 6; };
+    const AdaptiveResult r = adaptiveMean([&](std::uint32_t i) { ++spent; return i % 50 == 3 ? 100.0 : 0.01; }, o);
+    EXPECT_EQ(r.estimate.n, 6u);
+    EXPECT_TRUE(r.estimate.capped);
+    // The budget does not cut the minimum.
+    spent = 0;
+    o.budgetSpent = [] { return true; };
+    EXPECT_EQ(adaptiveMean([](std::uint32_t i) { return i % 50 == 3 ? 100.0 : 0.01; }, o).estimate.n, 4u);
+}
+
+TEST(StudyStats, CrossingErrorBarWithNonAscendingTimes)
+{
+    // Times out of order (noise between two close counts): the crossing still gets an s.e. and n.
+    const std::vector<double> t = {1.0, 3.0, 2.5, 8.0};
+    const std::vector<Estimate> y = {est(1, 0.1, 5), est(0.5, 0.05, 6), est(0.45, 0.045, 7), est(0.1, 0.01, 8)};
+    const auto c = firstCrossing(t, y, est(0.5, 0.05, 6));  // reached exactly at the second point
+    ASSERT_TRUE(c.crossing.found);
+    EXPECT_NEAR(c.x.mean, 3.0, 1e-9);
+    EXPECT_TRUE(std::isfinite(c.x.se));
+    EXPECT_GT(c.x.n, 0u);
+}
