@@ -118,9 +118,9 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
     std::ostringstream o;
     o << "# Study: which sampler should I use, and at what cost?\n\n"
       << "Orthogonal-array samplers (Jarosz et al. 2019) against the baselines of the paper, measured by this "
-         "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: about 50 minutes on "
-         "2 cores with 2 renders per scene point; the adaptive number of renders, 8 to 64 or 120 s of renders "
-         "per point, makes the scene part several times longer) or `scripts/study.sh --quick` (a few minutes); `build/oas-study --parts ...` reruns single "
+         "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: 8 to 64 renders or "
+         "120 s of renders per scene point, hours on 2 cores) or `scripts/study.sh --quick` (about 11 minutes); "
+         "`build/oas-study --parts ...` reruns single "
          "parts, and this file is reassembled from the parts' sections in `docs/study/*.md`. Each section "
          "states the machine, date and command that made it. Assembled " << today() << " on " << cpuModel()
       << ".\n\n"

@@ -504,7 +504,9 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                << fmtEstimate(ec) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
                << (s.label == "Random" ? "—" : verdictCell(e, r)) << " | " << fmtRatio(ratioTo(e, cmj128, s.label == "CMJ2D-pad")) << " | "
                << (s.label == "CMJ2D-pad" ? "—" : verdictCell(e, cmj128)) << " | " << fmtF(secs * 1000, 0) << " |\n";
-            if (isOa(s) && std::isfinite(e.mean) && !(e.mean >= bestOa.mean))
+            // The goal is about the paper's count: an OA whose nearest count is above 128 (Addelman-
+            // Kempthorne's 162) has more samples, so it does not compete for "best OA at <= 128".
+            if (isOa(s) && n <= 128 && std::isfinite(e.mean) && !(e.mean >= bestOa.mean))
                 bestOa = e, bestOaName = s.label + "@" + fmtG(n), bestOaRnd = r;
         }
         if (info.name == "cornell7d" && std::isfinite(bestOaRnd.mean) && std::isfinite(cmj128.mean)) {
@@ -518,7 +520,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             goal7d = v1 == Verdict::FirstLower && v2 == Verdict::FirstLower  ? "met"
                      : v1 == Verdict::SecondLower || v2 == Verdict::SecondLower ? "not met"
                                                                                   : "tie (not decided by the error bars)";
-            goal7dText = "best OA (lowest mean) " + bestOaName + ": relMSE " + fmtEstimate(bestOa) + " = " +
+            goal7dText = "best OA at <= 128 spp (lowest mean) " + bestOaName + ": relMSE " + fmtEstimate(bestOa) + " = " +
                          fmtRatio(ratioOf(bestOa, bestOaRnd)) + "× Random at the same spp (goal ≤ 0.50: " +
                          verdictWord(v1) + " than 0.5× Random) and " + fmtRatio(ratioOf(bestOa, cmj128)) +
                          "× CMJ2D-pad@128 (goal < 1: " + verdictWord(v2) + ")";
