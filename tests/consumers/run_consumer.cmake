@@ -57,23 +57,29 @@ elseif(MODE STREQUAL "add-subdirectory")
   list(APPEND configure_args "-DOAS_SOURCE_DIR=${OAS_SOURCE_DIR}")
 else()
   find_program(GIT_EXECUTABLE git)
-  if(NOT GIT_EXECUTABLE)
-    message(FATAL_ERROR "consumer fetchcontent: git is not installed")
+  set(rc 1)
+  if(GIT_EXECUTABLE)
+    execute_process(COMMAND "${GIT_EXECUTABLE}" -C "${OAS_SOURCE_DIR}" rev-parse HEAD
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE commit ERROR_QUIET OUTPUT_STRIP_TRAILING_WHITESPACE)
   endif()
-  execute_process(COMMAND "${GIT_EXECUTABLE}" -C "${OAS_SOURCE_DIR}" rev-parse HEAD
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE commit ERROR_VARIABLE err
-                  OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_STRIP_TRAILING_WHITESPACE)
-  if(NOT rc STREQUAL "0")
-    message(FATAL_ERROR "consumer fetchcontent: ${OAS_SOURCE_DIR} is not a git checkout with a commit, "
-                        "so FetchContent has nothing to clone (git rev-parse HEAD: ${err})")
+  if(rc STREQUAL "0")
+    # FetchContent clones the commit, so what is not committed is not tested: say so.
+    execute_process(COMMAND "${GIT_EXECUTABLE}" -C "${OAS_SOURCE_DIR}" status --porcelain
+                    OUTPUT_VARIABLE dirty OUTPUT_STRIP_TRAILING_WHITESPACE)
+    if(dirty)
+      message("consumer fetchcontent: note: testing commit ${commit}; the checkout's uncommitted changes are not in it")
+    endif()
+    list(APPEND configure_args "-DOAS_GIT_REPOSITORY=${OAS_SOURCE_DIR}" "-DOAS_GIT_TAG=${commit}")
+  else()
+    # A source tree without git (an exported tarball, a CI that copies files): FetchContent takes an
+    # archive of it instead, which is the same download-and-add path with URL in place of git.
+    # What a subproject build reads: the top-level CMakeLists.txt, cmake/, host/ and shaders/.
+    set(archive "${WORK_DIR}/oas-source.tar.gz")
+    run_step("archive of ${OAS_SOURCE_DIR}" COMMAND "${CMAKE_COMMAND}" -E chdir "${OAS_SOURCE_DIR}"
+             "${CMAKE_COMMAND}" -E tar czf "${archive}" CMakeLists.txt cmake host shaders)
+    message("consumer fetchcontent: note: ${OAS_SOURCE_DIR} is not a git checkout (or git is missing); fetching an archive of it")
+    list(APPEND configure_args "-DOAS_URL=file://${archive}")
   endif()
-  # FetchContent clones the commit, so what is not committed is not tested: say so.
-  execute_process(COMMAND "${GIT_EXECUTABLE}" -C "${OAS_SOURCE_DIR}" status --porcelain
-                  OUTPUT_VARIABLE dirty OUTPUT_STRIP_TRAILING_WHITESPACE)
-  if(dirty)
-    message("consumer fetchcontent: note: testing commit ${commit}; the checkout's uncommitted changes are not in it")
-  endif()
-  list(APPEND configure_args "-DOAS_GIT_REPOSITORY=${OAS_SOURCE_DIR}" "-DOAS_GIT_TAG=${commit}")
 endif()
 
 run_step("configure" COMMAND "${CMAKE_COMMAND}" ${configure_args})
