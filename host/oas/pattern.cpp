@@ -78,8 +78,6 @@ std::uint32_t defaultStrength(std::uint32_t code, std::uint32_t dims)
     return 2;
 }
 
-/// The exact pattern for (sampler, spp, strength), or an empty optional-like Pattern (N = 0)
-/// with `why` set when spp cannot be made exactly.
 /// The exact pattern for (construction, spp, strength t, offset) from the C builder
 /// (oas_pattern.c, the one implementation of every value choice), or a Pattern with N = 0 and
 /// `why` set when spp cannot be made exactly.
