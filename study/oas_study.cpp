@@ -20,6 +20,7 @@
 
 #include "cost_study.hpp"
 #include "experiment.hpp"
+#include "pair_study.hpp"
 #include "scene_study.hpp"
 #include "spectrum.hpp"
 #include "integrands.hpp"
@@ -114,7 +115,8 @@ std::string goalLines(const std::string& section)
 void assembleStudy(const std::string& studyMd, const std::string& outDir)
 {
     const std::string scenes = readFile(outDir + "/scenes.md"), cost = readFile(outDir + "/cost.md"),
-                      analytic = readFile(outDir + "/analytic.md"), spectra = readFile(outDir + "/spectra.md");
+                      analytic = readFile(outDir + "/analytic.md"), spectra = readFile(outDir + "/spectra.md"),
+                      pairs = readFile(outDir + "/pairs.md");
     std::ostringstream o;
     o << "# Study: which sampler should I use, and at what cost?\n\n"
       << "Orthogonal-array samplers (Jarosz et al. 2019) against the baselines of the paper, measured by this "
@@ -145,7 +147,7 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
         }
     }
     o << goalLines(scenes) << "\n";
-    for (const auto* part : {&scenes, &cost, &spectra, &analytic})
+    for (const auto* part : {&scenes, &cost, &spectra, &analytic, &pairs})
         if (!part->empty()) o << *part << "\n";
     writeSection(studyMd, o.str());
 }
@@ -191,14 +193,14 @@ int main(int argc, char** argv)
     app.add_option("--rqmc-reps", rqmcReps, "RQMC reference: replicates (64)");
     app.add_option("--out-dir", outDir, "output folder for CSVs, slopes.md and plots (docs/study)");
     app.add_option("--study-md", studyMd, "summary markdown (docs/STUDY.md); empty: none");
-    std::vector<std::string> parts = {"analytic", "spectra", "cost", "scenes"}, sceneNames;
+    std::vector<std::string> parts = {"analytic", "pairs", "spectra", "cost", "scenes"}, sceneNames;
     std::string scenesDir = "scenes";
     std::uint32_t sceneWidth = 0, sceneMaxSpp = 0, sceneMinTrials = 0, sceneMaxTrials = 0, referenceSpp = 0;
     double sceneRelSe = 0.1, sceneSecondsPerPoint = -1;
-    app.add_option("--parts", parts, "parts to run: analytic spectra cost scenes (default: all), or none (only reassemble "
+    app.add_option("--parts", parts, "parts to run: analytic pairs spectra cost scenes (default: all), or none (only reassemble "
                                      "STUDY.md and redraw); STUDY.md is assembled from every part's section in the "
                                      "output folder")
-        ->check(CLI::IsMember({"analytic", "spectra", "cost", "scenes", "none"}));
+        ->check(CLI::IsMember({"analytic", "pairs", "spectra", "cost", "scenes", "none"}));
     app.add_option("--scenes-dir", scenesDir, "scene folder (scenes)");
     app.add_option("--scene", sceneNames, "scenes to study (default: cornell7d blue_spheres9d interior_deep)");
     app.add_option("--scene-width", sceneWidth, "scene render width (quick 32, full 64)")->check(CLI::Range(8u, 1024u));
@@ -556,6 +558,15 @@ int main(int argc, char** argv)
     };
     try {
         if (wants("analytic")) runAnalytic();
+        if (wants("pairs")) {
+            PairStudyOptions po;
+            po.trials = quick ? 1024 : 4096;
+            po.threads = threads;
+            po.outDir = outDir;
+            po.command = command;
+            po.quick = quick;
+            writeSection(outDir + "/pairs.md", runPairStudy(po));
+        }
         if (wants("spectra")) {
             runProjections();
             const auto ts = std::chrono::steady_clock::now();

@@ -8,6 +8,7 @@
 
 #include "experiment.hpp"
 #include "integrands.hpp"
+#include "pair_study.hpp"
 #include "stats.hpp"
 
 using namespace oas::study;
@@ -175,4 +176,45 @@ TEST(StudyExperiment, UnbiasedOnTwoAdditiveBinaryStep)
     const auto st = measure(pat, fs, {ref}, 4, 64, 256, 9, 2);
     EXPECT_NEAR(st[0].mean, ref, 5 * std::sqrt(st[0].variance / 256));
     EXPECT_GT(st[0].mse, 0.0);
+}
+
+// The pair study's textbook randomization must itself be what it claims: a randomized OA of
+// strength 2 (every pair of columns puts one point in each of the q x q cells) whose columns are
+// Latin hypercubes in N = q^2 strata, with CMJ's substrata shared by every stratum of a column.
+TEST(PairStudy, TextbookBoseIsAStrength2LatinHypercubeOA)
+{
+    for (bool correlated : {true, false})
+        for (std::uint32_t q : {5u, 7u, 11u}) {
+            std::vector<double> x;
+            textbookBose4(q, correlated, 1234 + q, x);
+            const std::uint32_t n = q * q;
+            ASSERT_EQ(x.size(), size_t(n) * 4);
+            for (int a = 0; a < 4; ++a) {
+                std::vector<int> fine(n, 0);
+                for (std::uint32_t i = 0; i < n; ++i) {
+                    const double v = x[size_t(i) * 4 + a];
+                    ASSERT_GE(v, 0.0);
+                    ASSERT_LT(v, 1.0);
+                    ++fine[std::uint32_t(v * n)];
+                }
+                for (int c : fine) EXPECT_EQ(c, 1) << "column " << a << " is not a Latin hypercube, q = " << q;
+                for (int b = a + 1; b < 4; ++b) {
+                    std::vector<int> cells(n, 0);
+                    for (std::uint32_t i = 0; i < n; ++i)
+                        ++cells[std::uint32_t(x[size_t(i) * 4 + a] * q) * q + std::uint32_t(x[size_t(i) * 4 + b] * q)];
+                    for (int c : cells) EXPECT_EQ(c, 1) << "pair (" << a << "," << b << "), q = " << q;
+                }
+            }
+            // CMJ: the substratum of column 0 depends on the partner's level only, through one
+            // permutation: points in the same column-1 stratum share column 0's substratum.
+            std::vector<int> subOfRow(q, -1);
+            bool shared = true;
+            for (std::uint32_t i = 0; i < n; ++i) {
+                const std::uint32_t row = std::uint32_t(x[size_t(i) * 4 + 1] * q);
+                const int sub = int(std::uint32_t(x[size_t(i) * 4 + 0] * n) % q);
+                if (subOfRow[row] < 0) subOfRow[row] = sub;
+                shared = shared && subOfRow[row] == sub;
+            }
+            EXPECT_EQ(shared, correlated) << "q = " << q;
+        }
 }
