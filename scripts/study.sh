@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Runs the study (oas-study): analytic integrands, MSE vs N, slopes, plots -> docs/study/, docs/STUDY.md.
-# Pass --quick for a run of about 11 min on 2 cores; without it the full mode, which renders every
-# scene point until its relMSE has s.e. <= 10% (8 to 64 renders, at most 120 s of renders per
-# point: not yet timed since that change; expect hours on 2 cores, bound it with
-# --scene-seconds-per-point / --scene-max-trials).
+# Pass --quick for a run of about 11 min on 2 cores; without it the full mode: every scene point
+# gets at least 6 renders, then each scene shares 300 s of further renders among the points whose
+# relMSE s.e. is still above 10% of the mean (--scene-min-trials, --scene-extra-seconds,
+# --scene-max-trials), and the 7D and 9D scenes add the paper's 3969/4096 spp (--scene-paper-spp).
 # Other oas-study options pass through, e.g. --parts scenes to rerun one part.
 # Plots need Debian's python3-matplotlib, installed here when missing.
 set -euo pipefail

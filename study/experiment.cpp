@@ -62,6 +62,26 @@ std::vector<std::uint32_t> countLadder(const SamplerSpec& s, std::uint32_t dims,
     return out;
 }
 
+std::uint32_t nearestCount(const SamplerSpec& s, std::uint32_t dims, std::uint32_t target)
+{
+    const double window = std::pow(2.0, 0.25);
+    const auto lo = std::uint32_t(std::ceil(target / window)), hi = std::uint32_t(std::floor(target * window));
+    std::vector<std::uint32_t> candidates;
+    if (s.powersOfTwo) {
+        for (std::uint64_t n = 1; n <= hi; n *= 2)
+            if (n >= lo) candidates.push_back(std::uint32_t(n));
+    } else {
+        candidates = oas::validCounts(s.sampler, s.strength, dims, lo, hi);
+    }
+    std::uint32_t best = 0;
+    double bestD = 1e300;
+    for (auto c : candidates) {
+        const double d = std::abs(std::log2(double(c) / target));
+        if (d < bestD) bestD = d, best = c;
+    }
+    return best;
+}
+
 std::vector<Stats> measure(const oas::Pattern& pattern, const std::vector<Integrand>& fs,
                            const std::vector<double>& references, std::uint32_t dims, std::uint32_t spp,
                            std::uint32_t trials, std::uint32_t seed, unsigned threads)

@@ -28,6 +28,10 @@ oas::PatternRequest patternRequest(const SamplerSpec& s, std::uint32_t spp, std:
 /// 2^(1/4)) to each half-octave target lo * 2^(k/2); powers of two for the baselines.
 std::vector<std::uint32_t> countLadder(const SamplerSpec& s, std::uint32_t dims, std::uint32_t lo, std::uint32_t hi);
 
+/// The sampler's valid count nearest (in log) to `target`, within a factor 2^(1/4) either side
+/// (powers of two for the baselines); 0 if it has none there.
+std::uint32_t nearestCount(const SamplerSpec& s, std::uint32_t dims, std::uint32_t target);
+
 struct Stats {
     double mean = 0;       ///< mean estimate over trials
     double mse = 0;        ///< mean of (estimate - reference)^2

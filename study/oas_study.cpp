@@ -120,17 +120,19 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
     std::ostringstream o;
     o << "# Study: which sampler should I use, and at what cost?\n\n"
       << "Orthogonal-array samplers (Jarosz et al. 2019) against the baselines of the paper, measured by this "
-         "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: 8 to 64 renders or "
-         "120 s of renders per scene point, hours on 2 cores) or `scripts/study.sh --quick` (about 11 minutes); "
+         "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: at least 6 "
+         "renders per scene point plus 300 s of further renders per scene where they shrink the error bars "
+         "most; about an hour and a half on 2 cores) or `scripts/study.sh --quick` (about 11 minutes); "
          "`build/oas-study --parts ...` reruns single "
          "parts, and this file is reassembled from the parts' sections in `docs/study/*.md`. Each section "
          "states the machine, date and command that made it. Assembled " << today() << " on " << cpuModel()
       << ".\n\n"
-      << "Scope: the scene ladders stop at 1024 spp (full mode) rather than the paper's 3969/4096, because "
-         "lavapipe renders the 41D interior at about 0.3 Mpaths/s; images are 64 px wide for the same reason, "
-         "and every relMSE is a mean over independent renders, their number chosen per point until the standard "
-         "error is at most 10% of the mean (or a cap, marked), with n and the s.e. next to it; verdicts are "
-         "ties unless two numbers differ by more than twice their combined s.e. The scenes are ours (DESIGN §5), "
+      << "Scope: the scene ladders run from 16 to 1024 spp, and the 7D and 9D scenes also at the paper's "
+         "3969/4096 (full mode); the 41D interior stops at 1024 because lavapipe renders it at about 0.4 "
+         "Mpaths/s. Images are 64 px wide for the same reason. Every relMSE is a mean over independent renders "
+         "with n and the standard error next to it (marked \"cap\" where the s.e. is still above 10% of the "
+         "mean); verdicts are ties unless two numbers differ by more than twice their combined s.e. The scenes "
+         "are ours (DESIGN §5), "
          "modelled on the paper's CornellBox 7D, BlueSpheres 9D and Barcelona 43D, so compare ratios with the "
          "paper's, not absolute errors.\n\n";
     o << "## Goals\n\n";
@@ -196,7 +198,8 @@ int main(int argc, char** argv)
     std::vector<std::string> parts = {"analytic", "pairs", "spectra", "cost", "scenes"}, sceneNames;
     std::string scenesDir = "scenes";
     std::uint32_t sceneWidth = 0, sceneMaxSpp = 0, sceneMinTrials = 0, sceneMaxTrials = 0, referenceSpp = 0;
-    double sceneRelSe = 0.1, sceneSecondsPerPoint = -1;
+    std::int64_t scenePaperSpp = -1;
+    double sceneRelSe = 0.1, sceneExtraSeconds = -1;
     app.add_option("--parts", parts, "parts to run: analytic pairs spectra cost scenes (default: all), or none (only reassemble "
                                      "STUDY.md and redraw); STUDY.md is assembled from every part's section in the "
                                      "output folder")
@@ -206,17 +209,22 @@ int main(int argc, char** argv)
     app.add_option("--scene-width", sceneWidth, "scene render width (quick 32, full 64)")->check(CLI::Range(8u, 1024u));
     app.add_option("--scene-max-spp", sceneMaxSpp, "largest spp of the scene ladders (quick 256, full 1024)")
         ->check(CLI::Range(128u, 65536u));
-    app.add_option("--scene-min-trials", sceneMinTrials, "fewest independent renders per (sampler, spp) (quick 3, full 8)")
+    app.add_option("--scene-paper-spp", scenePaperSpp,
+                   "the 7D and 9D scenes also render every sampler at its count nearest this, the paper's 3969/4096 "
+                   "(0: none; quick 0, full 4096)")
+        ->check(CLI::Range(0, 65536));
+    app.add_option("--scene-min-trials", sceneMinTrials, "fewest independent renders per (sampler, spp) (quick 3, full 6)")
         ->check(CLI::Range(2u, 4096u));
     app.add_option("--scene-max-trials", sceneMaxTrials,
-                   "cap on renders per (sampler, spp) while the s.e. is above --scene-rel-se of the mean (quick 4, full 64)")
+                   "most renders per (sampler, spp) while the s.e. is above --scene-rel-se of the mean (quick 4, full 64)")
         ->check(CLI::Range(2u, 4096u));
-    app.add_option("--scene-seconds-per-point", sceneSecondsPerPoint,
-                   "render-time cap per (sampler, spp) after the minimum renders, 0: none (quick 0, full 120)")
+    app.add_option("--scene-extra-seconds", sceneExtraSeconds,
+                   "render seconds per scene beyond the minimum renders, shared by its points where they shrink "
+                   "the s.e. most (quick 0, full 300)")
         ->check(CLI::Range(0.0, 1e6));
     app.add_option("--scene-rel-se", sceneRelSe, "target standard error ÷ mean of every scene relMSE (0.1)")
         ->check(CLI::Range(0.001, 1.0));
-    app.add_option("--reference-spp", referenceSpp, "scene reference spp (quick 8192, full 16384)")
+    app.add_option("--reference-spp", referenceSpp, "scene reference spp (default: 16 x the scene's largest count)")
         ->check(CLI::Range(256u, 1u << 24));
     app.add_flag("--no-plot", noPlot, "do not run study/plot.py afterwards");
     try {
@@ -591,15 +599,16 @@ int main(int argc, char** argv)
             so.scenes = sceneNames;
             so.width = sceneWidth ? sceneWidth : (quick ? 32 : 64);
             so.maxSpp = sceneMaxSpp ? sceneMaxSpp : (quick ? 256 : 1024);
-            so.referenceSpp = referenceSpp ? referenceSpp : (quick ? 8192 : 16384);
+            so.referenceSpp = referenceSpp;  // 0: 16 x the scene's largest count
+            so.paperHighSpp = std::uint32_t(scenePaperSpp >= 0 ? scenePaperSpp : (quick ? 0 : 4096));
             // Adaptive n per point (see SceneStudyOptions): quick mode keeps a small cap so that it
             // stays at minutes; the cap is marked wherever it is hit.
-            so.minTrials = sceneMinTrials ? sceneMinTrials : (quick ? 3 : 8);
+            so.minTrials = sceneMinTrials ? sceneMinTrials : (quick ? 3 : 6);
             so.maxTrials = std::max(so.minTrials, sceneMaxTrials ? sceneMaxTrials : (quick ? 4u : 64u));
             so.relSeTarget = sceneRelSe;
-            // Full mode: the firefly-dominated interior would otherwise take up to 64 renders at every
-            // point (hours on 2 cores); 120 s of renders per point bounds it.
-            so.maxSecondsPerPoint = sceneSecondsPerPoint >= 0 ? sceneSecondsPerPoint : (quick ? 0 : 120);
+            // Full mode: 300 s of extra renders per scene, where they shrink the error bars most (the
+            // firefly-dominated points would otherwise take every render up to the cap: hours).
+            so.extraSecondsPerScene = sceneExtraSeconds >= 0 ? sceneExtraSeconds : (quick ? 0 : 300);
             // Quick mode: a subset of samplers, to keep it to minutes (one path-tracing pipeline per
             // construction x offset x field kind, ~1.5 s each on lavapipe, and the renders
             // themselves); the full mode renders every sampler.

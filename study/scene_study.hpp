@@ -20,6 +20,7 @@ struct SceneCase {
     std::string file;  ///< under the scenes folder
     double cropX, cropY, cropW, cropH;
     std::string cropWhat;
+    bool paperHighCount = false;  ///< also rendered at the paper's 3969/4096 spp (the 7D and 9D scenes)
 };
 
 /// cornell7d, blue_spheres9d and interior_deep, with their crops.
@@ -33,15 +34,19 @@ struct SceneStudyOptions {
     std::vector<std::string> scenes;  ///< scene names (file stems); empty: all of studyScenes()
     std::uint32_t width = 64;         ///< render width; the height keeps the scene's aspect
     std::uint32_t minSpp = 16, maxSpp = 1024;
-    std::uint32_t referenceSpp = 65536;  ///< Sobol reference, rendered as two independent halves
-    /// Independent renders (new user seeds) per (sampler, spp), chosen adaptively: at least
-    /// minTrials, then one more at a time until the s.e. of the full-image and of the crop relMSE
-    /// are both <= relSeTarget × their mean, or maxTrials (the cap, marked in the tables).
+    /// The paper's high count (3969/4096 spp): the 7D and 9D scenes (SceneCase::paperHighCount)
+    /// also render every sampler at its valid count nearest this (0: none).
+    std::uint32_t paperHighSpp = 0;
+    /// Sobol reference, rendered as two independent halves; 0: 16 × the scene's largest count.
+    std::uint32_t referenceSpp = 0;
+    /// Independent renders (new user seeds) per (sampler, spp): at least minTrials each, then
+    /// more from a render-time budget that all of a scene's points share (budgetedMeans: the next
+    /// render goes to the point whose relative s.e. it shrinks most per second, among points whose
+    /// full-image or crop s.e. is above relSeTarget × mean), at most maxTrials per point.
+    /// Estimates still above the target are marked (capped) in the tables.
     std::uint32_t minTrials = 8, maxTrials = 64;
     double relSeTarget = 0.1;
-    /// Render-time budget per (sampler, spp) in seconds, a second cap (0: none): once minTrials are
-    /// done and the renders of the point took this long, no more are added (marked like the cap).
-    double maxSecondsPerPoint = 0;
+    double extraSecondsPerScene = 0;  ///< the shared budget, render seconds per scene
     std::string outDir = "docs/study";
     std::string command;  ///< how the study was invoked (for the markdown)
     bool quick = false;

@@ -254,33 +254,90 @@ Estimate ratioOf(const Estimate& a, const Estimate& b)
     return r;
 }
 
+namespace {
+
+/// The draws of one point and the tests on them (shared by adaptiveMeans and budgetedMeans).
+struct DrawnPoint {
+    std::vector<AdaptiveResult> r;
+    std::uint32_t n = 0;
+    double cost = 0;
+    void add(const std::vector<double>& v, std::size_t targeted)
+    {
+        if (r.empty()) r.resize(v.size());
+        if (v.size() != r.size() || v.size() < targeted)
+            throw std::invalid_argument("adaptive draws: a draw returned " + std::to_string(v.size()) + " values");
+        for (size_t k = 0; k < v.size(); ++k) r[k].values.push_back(v[k]);
+        ++n;
+    }
+    /// The largest relative s.e. of the targeted quantities; relSe() is NaN for n = 1 and infinite
+    /// for a zero mean: both count as "far from the target" (a large finite number).
+    double worstRelSe(std::size_t targeted) const
+    {
+        double w = 0;
+        for (size_t k = 0; k < targeted; ++k) {
+            const double e = estimateOf(r[k].values).relSe();
+            w = std::max(w, std::isfinite(e) ? e : 1e9);
+        }
+        return w;
+    }
+    void finish(double relTarget)
+    {
+        for (auto& q : r) {
+            q.estimate = estimateOf(q.values);
+            // Marked per quantity: the cap stopped the draws before its s.e. met the target.
+            q.estimate.capped = !(q.estimate.relSe() <= relTarget);
+        }
+    }
+};
+
+}  // namespace
+
 std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw,
                                           std::size_t targeted, const AdaptiveOptions& o)
 {
     const std::uint32_t nMax = std::max<std::uint32_t>(1, o.nMax), nMin = std::clamp<std::uint32_t>(o.nMin, 1, nMax);
-    std::vector<AdaptiveResult> r;
-    std::uint32_t n = 0;
-    auto addOne = [&] {
-        const std::vector<double> v = draw(n++);
-        if (r.empty()) r.resize(v.size());
-        if (v.size() != r.size() || v.size() < targeted)
-            throw std::invalid_argument("adaptiveMeans: a draw returned " + std::to_string(v.size()) + " values");
-        for (size_t k = 0; k < v.size(); ++k) r[k].values.push_back(v[k]);
+    DrawnPoint p;
+    while (p.n < nMin) p.add(draw(p.n), targeted);
+    while (p.n < nMax && !(p.worstRelSe(targeted) <= o.relTarget)) p.add(draw(p.n), targeted);
+    p.finish(o.relTarget);
+    return p.r;
+}
+
+std::vector<std::vector<AdaptiveResult>> budgetedMeans(
+    std::size_t points, const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
+    std::size_t targeted, const AdaptiveOptions& o, double budget)
+{
+    const std::uint32_t nMax = std::max<std::uint32_t>(1, o.nMax), nMin = std::clamp<std::uint32_t>(o.nMin, 1, nMax);
+    std::vector<DrawnPoint> ps(points);
+    auto drawOne = [&](std::size_t k) {
+        const CostedDraw d = draw(k, ps[k].n);
+        ps[k].add(d.values, targeted);
+        ps[k].cost += d.cost;
+        return d.cost;
     };
-    // relSe() is NaN for n = 1 and infinite for a zero mean: both keep drawing (the test is false).
-    auto met = [&] {
-        for (size_t k = 0; k < targeted; ++k)
-            if (!(estimateOf(r[k].values).relSe() <= o.relTarget)) return false;
-        return true;
-    };
-    while (n < nMin) addOne();
-    while (n < nMax && !met() && !(o.budgetSpent && o.budgetSpent())) addOne();
-    for (size_t k = 0; k < r.size(); ++k) {
-        r[k].estimate = estimateOf(r[k].values);
-        // Marked per quantity: the cap stopped the loop before this quantity's s.e. met the target.
-        r[k].estimate.capped = !(r[k].estimate.relSe() <= o.relTarget);
+    for (std::size_t k = 0; k < points; ++k)
+        while (ps[k].n < nMin) drawOne(k);
+    double spent = 0;
+    while (spent < budget) {
+        std::size_t best = points;
+        double bestPriority = -1;
+        for (std::size_t k = 0; k < points; ++k) {
+            if (ps[k].n >= nMax) continue;
+            const double e = ps[k].worstRelSe(targeted);
+            if (e <= o.relTarget) continue;
+            const double perDraw = std::max(ps[k].cost / ps[k].n, 1e-12);
+            const double priority = e / (ps[k].n * perDraw);
+            if (priority > bestPriority) bestPriority = priority, best = k;
+        }
+        if (best == points) break;  // every point met its target or its cap
+        spent += std::max(0.0, drawOne(best));
     }
-    return r;
+    std::vector<std::vector<AdaptiveResult>> out;
+    for (auto& p : ps) {
+        p.finish(o.relTarget);
+        out.push_back(std::move(p.r));
+    }
+    return out;
 }
 
 AdaptiveResult adaptiveMean(const std::function<double(std::uint32_t)>& draw, const AdaptiveOptions& o)

@@ -77,9 +77,6 @@ Estimate ratioOf(const Estimate& a, const Estimate& b);
 struct AdaptiveOptions {
     double relTarget = 0.1;
     std::uint32_t nMin = 8, nMax = 64;
-    /// Optional second cap, checked after each draw once nMin are done (e.g. a time budget per
-    /// point): true stops the loop; an estimate that misses the target is marked capped as well.
-    std::function<bool()> budgetSpent;
 };
 struct AdaptiveResult {
     Estimate estimate;
@@ -92,6 +89,23 @@ AdaptiveResult adaptiveMean(const std::function<double(std::uint32_t)>& draw, co
 /// same n. Every draw must return the same number of values (>= targeted).
 std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw,
                                           std::size_t targeted, const AdaptiveOptions& options);
+
+/// One draw of a budgeted point: its values and what it cost (e.g. render seconds).
+struct CostedDraw {
+    std::vector<double> values;
+    double cost = 0;
+};
+/// Adaptive draws for many points that share one budget (the scene study: every (sampler, spp) of
+/// a scene shares its render time). Every point first takes nMin draws (not counted against the
+/// budget). Then, while the extra cost spent is below `budget`, the next draw goes to the point
+/// that it helps most per unit cost: among points with n < nMax whose worst targeted quantity has
+/// s.e. > relTarget × |mean|, the one with the largest relSe / (n × mean cost per draw) (one more
+/// draw shrinks a relative s.e. by about relSe / 2n). Points that meet the target get no more.
+/// Returns, per point, one result per quantity; `capped` marks every quantity still above target.
+/// draw(point, i) is called with i = 0, 1, ... in order for each point.
+std::vector<std::vector<AdaptiveResult>> budgetedMeans(
+    std::size_t points, const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
+    std::size_t targeted, const AdaptiveOptions& options, double budget);
 
 /// Piecewise log-log interpolation (as interpLogLog) of estimates: the mean is interpLogLog's, the
 /// s.e. by the delta method on log y = (1 − u) log y_i + u log y_{i+1} for independent points:

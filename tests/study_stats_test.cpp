@@ -204,22 +204,53 @@ TEST(StudyStats, CrossingTimeCarriesAnErrorBar)
     EXPECT_TRUE(std::isnan(first.x.se));
 }
 
-TEST(StudyStats, AdaptiveDrawsStopAtTheBudgetToo)
+TEST(StudyStats, SharedBudgetGoesWhereItShrinksTheErrorMostPerSecond)
 {
-    // The rare-event draws never reach 10%; a budget of 6 draws ("seconds") stops the loop before
-    // the cap of 100, after the minimum, and the estimate is marked capped.
+    // Three points: 0 is quiet (constant, meets the target at nMin), 1 alternates 1 ± 0.5 and is
+    // cheap (1 s per draw), 2 alternates the same way but costs 10 s per draw. With a budget of 40
+    // s most extra draws go to point 1 (ten times the improvement per second at equal n), some to
+    // point 2 once point 1's n is large; point 0 gets none.
     AdaptiveOptions o;
     o.nMin = 4;
-    o.nMax = 100;
-    std::uint32_t spent = 0;
-    o.budgetSpent = [&] { return spent >= 6; };
-    const AdaptiveResult r = adaptiveMean([&](std::uint32_t i) { ++spent; return i % 50 == 3 ? 100.0 : 0.01; }, o);
-    EXPECT_EQ(r.estimate.n, 6u);
-    EXPECT_TRUE(r.estimate.capped);
-    // The budget does not cut the minimum.
-    spent = 0;
-    o.budgetSpent = [] { return true; };
-    EXPECT_EQ(adaptiveMean([](std::uint32_t i) { return i % 50 == 3 ? 100.0 : 0.01; }, o).estimate.n, 4u);
+    o.nMax = 200;
+    std::vector<std::uint32_t> calls(3, 0);
+    const double costs[3] = {1, 1, 10};
+    auto draw = [&](std::size_t p, std::uint32_t i) {
+        EXPECT_EQ(i, calls[p]);  // each point's draws are numbered in order
+        ++calls[p];
+        CostedDraw d;
+        d.values = {p == 0 ? 2.0 : (i % 2 ? 1.5 : 0.5)};
+        d.cost = costs[p];
+        return d;
+    };
+    const auto r = budgetedMeans(3, draw, 1, o, 40);
+    ASSERT_EQ(r.size(), 3u);
+    EXPECT_EQ(r[0][0].estimate.n, 4u);
+    EXPECT_FALSE(r[0][0].estimate.capped);
+    EXPECT_GE(r[1][0].estimate.n, 16u);
+    EXPECT_GT(r[2][0].estimate.n, 4u);
+    EXPECT_GT(r[1][0].estimate.n, r[2][0].estimate.n + 8);
+    EXPECT_LT(r[1][0].estimate.relSe(), r[2][0].estimate.relSe());
+    // The whole budget, within one draw of it.
+    const double spent = (r[1][0].estimate.n - 4) * 1.0 + (r[2][0].estimate.n - 4) * 10.0;
+    EXPECT_GE(spent, 40.0);
+    EXPECT_LT(spent, 40.0 + 10.0);
+    EXPECT_TRUE(r[2][0].estimate.capped);  // the budget ran out before point 2 met the target
+    for (std::size_t p = 0; p < 3; ++p) EXPECT_EQ(calls[p], r[p][0].estimate.n);
+
+    // No budget: every point stops at nMin, and a point above target is marked.
+    std::fill(calls.begin(), calls.end(), 0u);
+    const auto none = budgetedMeans(3, draw, 1, o, 0);
+    for (std::size_t p = 0; p < 3; ++p) EXPECT_EQ(none[p][0].estimate.n, 4u);
+    EXPECT_TRUE(none[1][0].estimate.capped);
+
+    // An endless budget: the cap nMax bounds every point, rare events stay marked.
+    o.nMax = 16;
+    const auto capped = budgetedMeans(
+        2, [](std::size_t, std::uint32_t i) { return CostedDraw{{i % 50 == 3 ? 100.0 : 0.01}, 1.0}; }, 1, o, 1e9);
+    EXPECT_EQ(capped[0][0].estimate.n, 16u);
+    EXPECT_EQ(capped[1][0].estimate.n, 16u);
+    EXPECT_TRUE(capped[0][0].estimate.capped);
 }
 
 TEST(StudyStats, CrossingErrorBarWithNonAscendingTimes)

@@ -218,3 +218,22 @@ TEST(PairStudy, TextbookBoseIsAStrength2LatinHypercubeOA)
             EXPECT_EQ(shared, correlated) << "q = " << q;
         }
 }
+
+// The scene study's paper-count points: the valid count nearest the target, in log.
+TEST(StudyLadder, NearestCountPicksTheClosestValidCountInLog)
+{
+    const auto specs = studySamplers();
+    auto spec = [&](const std::string& label) {
+        for (const auto& s : specs)
+            if (s.label == label) return s;
+        throw std::runtime_error("no sampler " + label);
+    };
+    EXPECT_EQ(nearestCount(spec("BoseCMJ"), 7, 4096), 4096u);  // 64^2
+    EXPECT_EQ(nearestCount(spec("BoseCMJ"), 7, 512), 529u);    // 23^2 (above the target: 22^2 is no Bose count)
+    EXPECT_EQ(nearestCount(spec("Sobol"), 7, 600), 512u);
+    // Addelman-Kempthorne makes 2 q^2 for odd prime powers q: 2 * 43^2 = 3698 and 2 * 47^2 = 4418
+    // are its neighbours of 4096 (q = 45 is no prime power); 4418 is nearer in log.
+    EXPECT_EQ(nearestCount(spec("AddelmanKempthorneCMJ"), 7, 4096), 4418u);
+    // Nothing within 2^(1/4): 0.
+    EXPECT_EQ(nearestCount(spec("Sobol"), 7, 724), 0u);
+}
