@@ -13,7 +13,7 @@ flags="-O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitiz
   -DOAS_BUILD_BENCHMARKS=OFF -DOAS_BUILD_STUDY_APP=OFF
 cmake --build build-asan -j "$(nproc)"
 # Tests that dispatch on the device (kept in one place: keep it in step with tests/).
-gpu_tests='^(VkSmoke|GpuCpu|GoldenGpu|RenderGpu|StudyGpu|LoopCap|Consumer)\.|^CliTest\.Gpu'
+gpu_tests='^(VkSmoke|GpuCpu|GoldenGpu|RenderGpu|StudyGpu|ViewGpu|LoopCap|Consumer)\.|^CliTest\.Gpu'
 # The largest Bose pattern (2^24 points, ~70 s under ASan) runs the same code as the other HardCases
 # tests at a larger count; it runs unsanitized in the main suite.
 slow_tests='^HardCases\.LargestBoseIsALatinHypercubeIn2Pow24Strata$'

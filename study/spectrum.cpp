@@ -33,6 +33,37 @@ void phasors(double x, int r, double* re, double* im)
 
 }  // namespace
 
+void addPeriodogram(const float* xs, const float* ys, std::uint32_t n, int radius, std::vector<double>& acc)
+{
+    if (radius < 0) throw std::invalid_argument("addPeriodogram: radius " + std::to_string(radius) + " < 0");
+    const size_t W = size_t(2 * radius + 1);
+    if (acc.size() != W * W) throw std::invalid_argument("addPeriodogram: acc must hold (2 radius + 1)^2 values");
+    if (n == 0) return;
+    std::vector<double> xr(size_t(n) * W), xi(size_t(n) * W), yr(size_t(n) * W), yi(size_t(n) * W);
+    std::vector<double> sr(W * W, 0.0), si(W * W, 0.0);
+    for (std::uint32_t j = 0; j < n; ++j) {
+        phasors(xs[j], radius, &xr[size_t(j) * W], &xi[size_t(j) * W]);
+        phasors(ys[j], radius, &yr[size_t(j) * W], &yi[size_t(j) * W]);
+    }
+    // S(k) = sum_j e^{-2 pi i kx x_j} e^{-2 pi i ky y_j}: one rank-1 update of the (ky, kx) grid
+    // per point, (2r+1)^2 n complex multiply-adds in all (a direct transform; an FFT would need the
+    // points binned, which the exact phases avoid).
+    for (std::uint32_t j = 0; j < n; ++j) {
+        const double* ar = &xr[size_t(j) * W];
+        const double* ai = &xi[size_t(j) * W];
+        for (size_t ky = 0; ky < W; ++ky) {
+            const double br = yr[size_t(j) * W + ky], bi = yi[size_t(j) * W + ky];
+            double* rr = &sr[ky * W];
+            double* ri = &si[ky * W];
+            for (size_t kx = 0; kx < W; ++kx) {
+                rr[kx] += ar[kx] * br - ai[kx] * bi;
+                ri[kx] += ar[kx] * bi + ai[kx] * br;
+            }
+        }
+    }
+    for (size_t c = 0; c < W * W; ++c) acc[c] += (sr[c] * sr[c] + si[c] * si[c]) / n;
+}
+
 Spectrum powerSpectrum(const oas::Pattern& pattern, std::uint32_t dimA, std::uint32_t dimB,
                        std::uint32_t randomizations, int radius, std::uint32_t userSeed, unsigned threads)
 {
@@ -54,36 +85,20 @@ Spectrum powerSpectrum(const oas::Pattern& pattern, std::uint32_t dimA, std::uin
     std::atomic<std::uint32_t> next{0};
 
     auto worker = [&] {
-        std::vector<double> xr(size_t(N) * W), xi(size_t(N) * W), yr(size_t(N) * W), yi(size_t(N) * W);
-        std::vector<double> sr(cells), si(cells);
+        std::vector<float> xs(N), ys(N);
+        std::vector<double> sums;
         for (std::uint32_t blk; (blk = next.fetch_add(1)) < blocks;) {
             double* acc = blockSum.data() + size_t(blk) * cells;
             const std::uint32_t i1 = std::min(randomizations, (blk + 1) * blockSize);
             for (std::uint32_t i = blk * blockSize; i < i1; ++i) {
                 const std::uint32_t seed = oas::pixelSeed(i, 0, userSeed);
                 for (std::uint32_t j = 0; j < N; ++j) {
-                    phasors(oas::sample(pattern, seed, j, dimA), radius, &xr[size_t(j) * W], &xi[size_t(j) * W]);
-                    phasors(oas::sample(pattern, seed, j, dimB), radius, &yr[size_t(j) * W], &yi[size_t(j) * W]);
+                    xs[j] = oas::sample(pattern, seed, j, dimA);
+                    ys[j] = oas::sample(pattern, seed, j, dimB);
                 }
-                // S(k) = sum_j e^{-2 pi i kx x_j} e^{-2 pi i ky y_j}: one rank-1 update of the
-                // (ky, kx) grid per point, (2r+1)^2 N complex multiply-adds in all (a direct
-                // transform; an FFT would need the points binned, which the exact phases avoid).
-                std::fill(sr.begin(), sr.end(), 0.0);
-                std::fill(si.begin(), si.end(), 0.0);
-                for (std::uint32_t j = 0; j < N; ++j) {
-                    const double* ar = &xr[size_t(j) * W];
-                    const double* ai = &xi[size_t(j) * W];
-                    for (size_t ky = 0; ky < W; ++ky) {
-                        const double br = yr[size_t(j) * W + ky], bi = yi[size_t(j) * W + ky];
-                        double* rr = &sr[ky * W];
-                        double* ri = &si[ky * W];
-                        for (size_t kx = 0; kx < W; ++kx) {
-                            rr[kx] += ar[kx] * br - ai[kx] * bi;
-                            ri[kx] += ar[kx] * bi + ai[kx] * br;
-                        }
-                    }
-                }
-                for (size_t c = 0; c < cells; ++c) acc[c] += (sr[c] * sr[c] + si[c] * si[c]) / N;
+                sums.assign(cells, 0.0);
+                addPeriodogram(xs.data(), ys.data(), N, radius, sums);
+                for (size_t c = 0; c < cells; ++c) acc[c] += sums[c];
             }
         }
     };

@@ -600,3 +600,60 @@ TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
 }
 
 }  // namespace
+
+// The progressive loop of oas-render and oas-view: forEachBatch's batches are passes of
+// perBatch samples over kRenderTile tiles, row by row (written out here independently), and a
+// BatchCursor with smaller tiles covers every pixel once per pass with the same samples, which is
+// why oas-view's accumulation equals oas-render's.
+TEST(BatchCursor, PassesCoverEveryPixelOnceWithTheSameSamplesForAnyTile)
+{
+    struct Case {
+        std::uint32_t w, h, spp, perBatch;
+    };
+    for (const Case c : {Case{300, 200, 10, 4}, Case{64, 64, 16, 8}, Case{513, 3, 5, 5}, Case{1, 1, 3, 1}}) {
+        std::vector<oas::render::SampleBatch> expected;
+        for (std::uint32_t first = 0; first < c.spp; first += c.perBatch)
+            for (std::uint32_t y = 0; y < c.h; y += 256)
+                for (std::uint32_t x = 0; x < c.w; x += 256) {
+                    oas::render::SampleBatch b;
+                    b.x0 = x, b.y0 = y, b.width = std::min(256u, c.w - x), b.height = std::min(256u, c.h - y);
+                    b.firstSample = first, b.count = std::min(c.perBatch, c.spp - first), b.seed = 9;
+                    expected.push_back(b);
+                }
+        std::vector<oas::render::SampleBatch> got;
+        const std::uint32_t done = oas::render::forEachBatch(c.w, c.h, c.spp, c.perBatch, 9,
+                                                             [&](const oas::render::SampleBatch& b) { got.push_back(b); });
+        EXPECT_EQ(done, c.spp);
+        ASSERT_EQ(got.size(), expected.size());
+        for (std::size_t i = 0; i < got.size(); ++i) {
+            EXPECT_EQ(got[i].x0, expected[i].x0);
+            EXPECT_EQ(got[i].y0, expected[i].y0);
+            EXPECT_EQ(got[i].width, expected[i].width);
+            EXPECT_EQ(got[i].height, expected[i].height);
+            EXPECT_EQ(got[i].firstSample, expected[i].firstSample);
+            EXPECT_EQ(got[i].count, expected[i].count);
+            EXPECT_EQ(got[i].seed, expected[i].seed);
+        }
+        // Smaller tiles, changed between passes as oas-view does: per pixel the same list of
+        // (firstSample, count) in the same order.
+        for (std::uint32_t tile : {1u, 7u, 64u}) {
+            std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> perPixel(std::size_t(c.w) * c.h);
+            oas::render::BatchCursor cursor(c.w, c.h, c.spp, c.perBatch, 9, tile);
+            std::uint32_t passes = 0;
+            while (!cursor.done()) {
+                const auto& b = cursor.batch();
+                EXPECT_LE(b.width, cursor.tile());
+                for (std::uint32_t y = b.y0; y < b.y0 + b.height; ++y)
+                    for (std::uint32_t x = b.x0; x < b.x0 + b.width; ++x)
+                        perPixel[std::size_t(y) * c.w + x].push_back({b.firstSample, b.count});
+                if (cursor.advance()) cursor.setTile(tile + 1 + passes++);  // a new tile every pass
+            }
+            for (const auto& list : perPixel) {
+                std::vector<std::pair<std::uint32_t, std::uint32_t>> want;
+                for (std::uint32_t first = 0; first < c.spp; first += c.perBatch)
+                    want.push_back({first, std::min(c.perBatch, c.spp - first)});
+                ASSERT_EQ(list, want) << "tile " << tile;
+            }
+        }
+    }
+}

@@ -19,6 +19,7 @@
 #include "oas/pattern.hpp"
 #include "render/plan.hpp"
 #include "render/scene_data.hpp"
+#include "render/scene_pattern.hpp"
 #include "render/tracer.hpp"
 #include "scene/scene.hpp"
 
@@ -128,30 +129,10 @@ int main(int argc, char** argv)
         if (strength) scene.sampler.strength = strength;
         const oas::render::DimensionPlan plan = oas::render::planDimensions(scene);
 
-        oas::PatternRequest request;
-        request.sampler = scene.sampler.name;
-        request.spp = scene.sampler.spp;
-        request.dims = plan.sampleDims;
-        request.strength = scene.sampler.strength;
-        request.offset = scene.sampler.offset;
-        oas::Pattern pattern;
-        std::string choice;
-        try {
-            if (request.sampler == "oa") {
-                const auto c = oas::chooseOrthogonalArray(request);
-                pattern = c.pattern;
-                choice = c.explanation;
-            } else {
-                pattern = oas::makePattern(request);
-                choice = oas::describe(pattern);
-            }
-        } catch (const oas::InvalidArgument& e) {
-            // Name where the request came from: the scene's "sampler" object or the options.
-            const bool fromOptions = !sampler.empty() || spp || !offset.empty() || strength;
-            throw oas::InvalidArgument(scene.path.string() + ": sampler" +
-                                       (fromOptions ? " (with the --sampler/--spp/--offset/--strength options)" : "") +
-                                       ": " + e.what());
-        }
+        const bool fromOptions = !sampler.empty() || spp || !offset.empty() || strength;
+        const oas::render::ScenePattern chosen = oas::render::scenePattern(scene, plan, fromOptions);
+        const oas::Pattern pattern = chosen.pattern;
+        const std::string& choice = chosen.choice;
         if (explain) {
             std::cout << "scene " << scene.name << ": " << scene.width << "x" << scene.height << ", "
                       << scene.shapes.size() << " shapes, " << scene.lights.size() + scene.areaLightCount()

@@ -56,7 +56,14 @@ Image readExr(const std::string& path, std::map<std::string, std::string>* attri
 /// to 0.
 std::uint8_t linearToSrgb8(float v, float exposure = 0);
 
-/// Encodes `image` as an 8-bit RGB PNG (alpha is dropped) through linearToSrgb8; returns the bytes.
+/// The 8-bit sRGB RGB bytes of `image` (alpha dropped) through linearToSrgb8: what the PNG preview
+/// holds and what oas-view shows.
+std::vector<std::uint8_t> srgb8(const Image& image, float exposure = 0);
+
+/// Encodes width x height 8-bit RGB pixels (row-major, 3 bytes each) as a PNG; returns the bytes.
+std::string encodePngRgb8(std::uint32_t width, std::uint32_t height, const std::vector<std::uint8_t>& rgb);
+
+/// Encodes `image` as an 8-bit RGB PNG: encodePngRgb8(srgb8(image, exposure)).
 std::string encodePngPreview(const Image& image, float exposure = 0);
 
 /// encodePngPreview, written atomically to `path` (oas::writeFileAtomically). `exposure` is in

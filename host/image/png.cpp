@@ -30,23 +30,40 @@ std::uint8_t linearToSrgb8(float v, float exposure)
     return std::uint8_t(std::lround(s * 255.0));
 }
 
+std::vector<std::uint8_t> srgb8(const Image& image, float exposure)
+{
+    checkLayout(image);
+    std::vector<std::uint8_t> rgb(image.pixelCount() * 3);
+    for (std::size_t i = 0; i < image.pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = linearToSrgb8(image.rgba[i * 4 + c], exposure);
+    return rgb;
+}
+
+std::string encodePngRgb8(std::uint32_t width, std::uint32_t height, const std::vector<std::uint8_t>& rgb)
+{
+    if (width == 0 || height == 0 || width > INT_MAX / 3 || height > INT_MAX)
+        throw std::invalid_argument("a PNG preview must be 1x1 .. 715827882 wide, not " + std::to_string(width) +
+                                    "x" + std::to_string(height));
+    if (rgb.size() != std::size_t(width) * height * 3)
+        throw std::invalid_argument("PNG pixels: " + std::to_string(rgb.size()) + " bytes for " + std::to_string(width) +
+                                    "x" + std::to_string(height) + " RGB");
+    std::string bytes;
+    auto append = [](void* context, void* data, int size) {
+        static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
+    };
+    const int w = int(width), h = int(height);
+    if (!stbi_write_png_to_func(append, &bytes, w, h, 3, rgb.data(), w * 3))
+        throw std::runtime_error("PNG encoding failed (" + std::to_string(w) + "x" + std::to_string(h) + ")");
+    return bytes;
+}
+
 std::string encodePngPreview(const Image& image, float exposure)
 {
     checkLayout(image);
     if (image.width == 0 || image.height == 0 || image.width > INT_MAX / 3 || image.height > INT_MAX)
         throw std::invalid_argument("a PNG preview must be 1x1 .. 715827882 wide, not " + std::to_string(image.width) +
                                     "x" + std::to_string(image.height));
-    std::vector<unsigned char> rgb(image.pixelCount() * 3);
-    for (std::size_t i = 0; i < image.pixelCount(); ++i)
-        for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = linearToSrgb8(image.rgba[i * 4 + c], exposure);
-    std::string bytes;
-    auto append = [](void* context, void* data, int size) {
-        static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
-    };
-    const int w = int(image.width), h = int(image.height);
-    if (!stbi_write_png_to_func(append, &bytes, w, h, 3, rgb.data(), w * 3))
-        throw std::runtime_error("PNG encoding failed (" + std::to_string(w) + "x" + std::to_string(h) + ")");
-    return bytes;
+    return encodePngRgb8(image.width, image.height, srgb8(image, exposure));
 }
 
 void writePngPreview(const std::string& path, const Image& image, float exposure)

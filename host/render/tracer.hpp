@@ -2,6 +2,7 @@
 // Rendering a flattened scene with the path tracer of shaders/pt/pt_trace.glsl, on the GPU
 // (pt_render.comp) or on the CPU (the same GLSL compiled as C++: the reference tracer).
 // Both accumulate radiance sums per pixel: rgb = sum of sample radiances, a = samples taken.
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -35,6 +36,33 @@ constexpr std::uint32_t kRenderTile = 256;
 std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
                            std::uint32_t seed, const std::function<void(const SampleBatch&)>& trace,
                            const std::function<bool(std::uint32_t)>& afterPass = {});
+
+/// The batches of forEachBatch one at a time, for callers that interleave other work between
+/// dispatches (oas-view presents a frame every ~50 ms). With the default tile these are
+/// forEachBatch's batches in its order. A smaller tile (setTile, applied from the next pass) splits
+/// each pass into more, shorter dispatches over the same samples: every pixel still receives the
+/// same passes in the same order, so the accumulation stays bit-identical.
+class BatchCursor {
+public:
+    BatchCursor(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch, std::uint32_t seed,
+                std::uint32_t tile = kRenderTile);
+    /// Tile edge in pixels (1 .. kRenderTile) for the passes that start after this call.
+    void setTile(std::uint32_t tile) { nextTile_ = std::clamp<std::uint32_t>(tile, 1, kRenderTile); }
+    std::uint32_t tile() const { return tile_; }
+    bool done() const { return done_ >= spp_; }
+    /// The current batch (valid while !done()).
+    const SampleBatch& batch() const { return batch_; }
+    /// Moves to the next batch; returns true when that completed a pass over the image.
+    bool advance();
+    /// Samples per pixel of the completed passes.
+    std::uint32_t samplesDone() const { return done_; }
+
+private:
+    void startPass();
+    std::uint32_t width_, height_, spp_, perBatch_, done_ = 0;
+    std::uint32_t tile_ = kRenderTile, nextTile_ = kRenderTile;
+    SampleBatch batch_;
+};
 
 /// The CPU reference: `threads` workers (0: all). Returns the number of samples whose radiance
 /// was not finite; those are left out of the sums (but counted in a), as on the GPU.

@@ -71,30 +71,54 @@ std::uint32_t samplesPerBatch(const DimensionPlan& plan)
     return std::max<std::uint32_t>(1, 8 / std::max<std::uint32_t>(1, plan.maxDepth));
 }
 
+BatchCursor::BatchCursor(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
+                         std::uint32_t seed, std::uint32_t tile)
+    : width_(width), height_(height), spp_(width && height ? spp : 0), perBatch_(std::max(1u, perBatch))
+{
+    setTile(tile);
+    batch_.seed = seed;
+    startPass();
+}
+
+void BatchCursor::startPass()
+{
+    tile_ = nextTile_;
+    batch_.firstSample = done_;
+    batch_.count = std::min(perBatch_, spp_ - std::min(spp_, done_));
+    batch_.x0 = batch_.y0 = 0;
+    batch_.width = std::min(tile_, width_);
+    batch_.height = std::min(tile_, height_);
+}
+
+bool BatchCursor::advance()
+{
+    if (done()) return false;
+    // Tiles row by row, then the next pass.
+    batch_.x0 += tile_;
+    if (batch_.x0 >= width_) {
+        batch_.x0 = 0;
+        batch_.y0 += tile_;
+    }
+    if (batch_.y0 < height_) {
+        batch_.width = std::min(tile_, width_ - batch_.x0);
+        batch_.height = std::min(tile_, height_ - batch_.y0);
+        return false;
+    }
+    done_ += batch_.count;
+    if (!done()) startPass();
+    return true;
+}
+
 std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
                            std::uint32_t seed, const std::function<void(const SampleBatch&)>& trace,
                            const std::function<bool(std::uint32_t)>& afterPass)
 {
-    std::uint32_t done = 0;
-    perBatch = std::max(1u, perBatch);
-    while (done < spp) {
-        SampleBatch batch;
-        batch.firstSample = done;
-        batch.count = std::min(perBatch, spp - done);
-        batch.seed = seed;
-        for (std::uint32_t ty = 0; ty < height; ty += kRenderTile) {
-            for (std::uint32_t tx = 0; tx < width; tx += kRenderTile) {
-                batch.x0 = tx;
-                batch.y0 = ty;
-                batch.width = std::min(kRenderTile, width - tx);
-                batch.height = std::min(kRenderTile, height - ty);
-                trace(batch);
-            }
-        }
-        done += batch.count;
-        if (afterPass && !afterPass(done)) break;
+    BatchCursor cursor(width, height, spp, perBatch, seed);
+    while (!cursor.done()) {
+        trace(cursor.batch());
+        if (cursor.advance() && afterPass && !afterPass(cursor.samplesDone())) break;
     }
-    return done;
+    return cursor.samplesDone();
 }
 
 void GpuTracer::clear()

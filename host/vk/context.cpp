@@ -160,6 +160,10 @@ Context::Context(const ContextOptions& opts) {
   features.pDisabledValidationFeatures = disabled;
   features.pNext = &messengerInfo;  // instance creation only: the messenger's own create info takes no chain
 
+  for (const auto& e : opts.instanceExtensions)
+    if (std::none_of(extensions.begin(), extensions.end(), [&](const char* x) { return e == x; }))
+      extensions.push_back(e.c_str());
+
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "oas";
   app.pEngineName = "oas";
@@ -192,7 +196,7 @@ Context::Context(const ContextOptions& opts) {
         m, [inst, destroy](VkDebugUtilsMessengerEXT h) { destroy(inst, h, nullptr); });
   }
 
-  pickPhysicalDevice(opts.preferDevice, api);
+  pickPhysicalDevice(opts, api);
 
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -202,6 +206,10 @@ Context::Context(const ContextOptions& opts) {
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
+  std::vector<const char*> deviceExtensions;
+  for (const auto& e : opts.deviceExtensions) deviceExtensions.push_back(e.c_str());
+  dci.enabledExtensionCount = static_cast<uint32_t>(deviceExtensions.size());
+  dci.ppEnabledExtensionNames = deviceExtensions.data();
   VkDevice dev = VK_NULL_HANDLE;
   if (VkResult r = vkCreateDevice(physical_, &dci, nullptr, &dev); r != VK_SUCCESS) {
     if (r == VK_ERROR_INITIALIZATION_FAILED)
@@ -229,7 +237,8 @@ Context::Context(const ContextOptions& opts) {
   fence_ = detail::Owned<VkFence>(fence, [dev](VkFence f) { vkDestroyFence(dev, f, nullptr); });
 }
 
-void Context::pickPhysicalDevice(const std::string& prefer, uint32_t instanceApi) {
+void Context::pickPhysicalDevice(const ContextOptions& opts, uint32_t instanceApi) {
+  const std::string& prefer = opts.preferDevice;
   const VkInstance inst = instance_.get();
   const auto devices = enumerate<VkPhysicalDevice>(
       "vkEnumeratePhysicalDevices", [inst](uint32_t* n, VkPhysicalDevice* p) { return vkEnumeratePhysicalDevices(inst, n, p); });
@@ -245,10 +254,21 @@ void Context::pickPhysicalDevice(const std::string& prefer, uint32_t instanceApi
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, nullptr);
     std::vector<VkQueueFamilyProperties> families(nq);
     vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, families.data());
-    auto fam = std::find_if(families.begin(), families.end(), [](const VkQueueFamilyProperties& f) {
-      return (f.queueFlags & VK_QUEUE_COMPUTE_BIT) && f.queueCount > 0;
-    });
+    auto fam = families.begin();
+    for (; fam != families.end(); ++fam) {
+      const uint32_t index = static_cast<uint32_t>(fam - families.begin());
+      if ((fam->queueFlags & VK_QUEUE_COMPUTE_BIT) && fam->queueCount > 0 &&
+          (!opts.canPresent || opts.canPresent(inst, pd, index)))
+        break;
+    }
     if (fam == families.end()) continue;
+    if (!opts.deviceExtensions.empty()) {
+      const auto exts = enumerate<VkExtensionProperties>("vkEnumerateDeviceExtensionProperties",
+          [pd](uint32_t* n, VkExtensionProperties* p) { return vkEnumerateDeviceExtensionProperties(pd, nullptr, n, p); });
+      if (!std::all_of(opts.deviceExtensions.begin(), opts.deviceExtensions.end(),
+                       [&](const std::string& e) { return hasExtension(exts, e.c_str()); }))
+        continue;
+    }
     const bool named = !prefer.empty() && std::string_view(props.deviceName).find(prefer) != std::string_view::npos;
     const int score = typeRank(props.deviceType) + (named ? 100 : 0);
     if (score <= bestScore) continue;  // ties keep enumeration order, which is stable per machine
@@ -258,7 +278,8 @@ void Context::pickPhysicalDevice(const std::string& prefer, uint32_t instanceApi
   }
   if (physical_ == VK_NULL_HANDLE)
     throw NoDeviceError(devices.empty() ? std::string("no Vulkan physical devices")
-                                        : "no Vulkan 1.1 device with a compute queue among:" + seen);
+                                        : std::string(opts.canPresent ? "no Vulkan 1.1 device with a queue that computes and presents among:"
+                                                                      : "no Vulkan 1.1 device with a compute queue among:") + seen);
 
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(physical_, &props);

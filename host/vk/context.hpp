@@ -26,6 +26,12 @@ struct ContextOptions {
   bool requireValidation = false;  // throw if the validation layer is not installed
   std::string preferDevice;        // case-sensitive substring of the device name; wins over type
   double dispatchTimeoutSeconds = 120.0;  // a hung kernel throws instead of blocking forever
+  // Presentation (oas-view): the instance extensions a window system needs (GLFW's
+  // glfwGetRequiredInstanceExtensions), device extensions (VK_KHR_swapchain), and a test of whether
+  // a queue family of a device can present. With canPresent set, only a family that computes and
+  // presents is chosen, so one queue does both and no ownership transfers are needed.
+  std::vector<std::string> instanceExtensions, deviceExtensions;
+  std::function<bool(VkInstance, VkPhysicalDevice, uint32_t family)> canPresent;
 };
 
 namespace detail {
@@ -145,7 +151,7 @@ class Context {
   static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(
       VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
       const VkDebugUtilsMessengerCallbackDataEXT*, void*);
-  void pickPhysicalDevice(const std::string& prefer, uint32_t instanceApi);
+  void pickPhysicalDevice(const ContextOptions& opts, uint32_t instanceApi);
 
   // The log is declared before every handle so it outlives the messenger's last callback.
   mutable std::mutex logMutex_;

@@ -72,7 +72,10 @@
 //   (sample indices >= N begin a new pass: make its OasBlock and OasColumns for index N, 2N, ...)
 //
 // ADVICE
-//   - Put paired dimensions on partner columns (0,1), (2,3), ... : Bose CMJ correlates those pairs.
+//   - Bose CMJ correlates the partner columns (0,1), (2,3), ...: each such pair is Kensler's
+//     correlated multi-jitter, which converges like N^-1.5 on smooth integrands that differ
+//     between opposite edges of the pair's square (N^-3 on periodic ones); MJ offsets give N^-2
+//     on both (docs/STUDY.md). Prefer MJ for smooth, non-periodic pairs.
 //   - Specialise the shader on the pattern kind (OAS_STATIC_CONSTRUCTION / _OFFSET / _FIELD_KIND,
 //     e.g. from specialization constants, see oas_pattern.glsl). Lavapipe runs both sides of every
 //     branch, so an unspecialised shader pays for every construction's code, loops included.

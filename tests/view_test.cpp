@@ -1,0 +1,290 @@
+// oas-view under a virtual X server (xvfb-run) on lavapipe, with the validation layer on: its
+// screenshots (read back from the swapchain image the window shows) against oas-render's images
+// and oas-samples' points, scripted keys, resizing and closing during a render, and what it says
+// without a display. ViewGpu.* need Vulkan and xvfb-run: they say SKIPPED without them, and fail
+// instead when OAS_REQUIRE_GPU=1 (scripts/test.sh, CI).
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include "stb_image.h"
+
+#include "view/points_view.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+    int status = -1;
+    std::string output;
+};
+
+std::string readAll(const fs::path& p)
+{
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+fs::path workDir(const std::string& name)
+{
+    const fs::path d = fs::path(OAS_VIEW_TEST_DIR) / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+Result run(const std::string& command, const fs::path& dir)
+{
+    const fs::path log = dir / "output.txt";
+    const std::string full = "cd '" + dir.string() + "' && " + command + " > '" + log.string() + "' 2>&1";
+    const int status = std::system(full.c_str());
+    Result r;
+    r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.output = readAll(log);
+    return r;
+}
+
+bool requireGpu()
+{
+    const char* v = std::getenv("OAS_REQUIRE_GPU");
+    return v && std::string(v) == "1";
+}
+
+/// xvfb-run with its own display number per test (parallel ctest runs), a 24-bit screen large
+/// enough for the points window, lavapipe unless a driver was chosen, and validation on.
+std::string underXvfb(const std::string& args, int displayBase)
+{
+    std::string driver;
+    if (!std::getenv("VK_DRIVER_FILES") && !std::getenv("VK_ICD_FILENAMES") &&
+        fs::exists("/usr/share/vulkan/icd.d/lvp_icd.x86_64.json"))
+        driver = "VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json "
+                 "VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json ";
+    return driver + "OAS_VK_VALIDATION=1 xvfb-run -a -n " + std::to_string(displayBase) +
+           " -s '-screen 0 1600x1000x24' '" + std::string(OAS_VIEW_EXE) + "' " + args;
+}
+
+class ViewGpu : public ::testing::Test {
+protected:
+    void SetUp() override
+    {
+        if (std::system("command -v xvfb-run > /dev/null 2>&1") != 0) {
+            if (requireGpu()) FAIL() << "xvfb-run is missing (scripts/setup.sh installs xvfb)";
+            GTEST_SKIP() << "SKIPPED: no xvfb-run (install xvfb, or run scripts/setup.sh)";
+        }
+    }
+    /// Runs oas-view and checks what every run must satisfy: exit 0 and no validation message.
+    Result view(const std::string& args, const fs::path& dir, int display)
+    {
+        Result r = run(underXvfb(args, display), dir);
+        if (r.status != 0 && r.output.find("no Vulkan") != std::string::npos && !requireGpu()) {
+            skipped_ = true;
+            return r;
+        }
+        EXPECT_EQ(r.status, 0) << r.output;
+        EXPECT_EQ(r.output.find("oas::vk validation"), std::string::npos) << r.output;
+        return r;
+    }
+    bool skipped_ = false;
+};
+
+/// Decoded RGB pixels of a PNG.
+struct Picture {
+    int width = 0, height = 0;
+    std::vector<unsigned char> rgb;
+    const unsigned char* at(int x, int y) const { return rgb.data() + (std::size_t(y) * width + x) * 3; }
+};
+
+Picture decode(const fs::path& png)
+{
+    Picture p;
+    int channels = 0;
+    unsigned char* data = stbi_load(png.string().c_str(), &p.width, &p.height, &channels, 3);
+    if (!data) return p;
+    p.rgb.assign(data, data + std::size_t(p.width) * p.height * 3);
+    stbi_image_free(data);
+    return p;
+}
+
+std::string renderCommand(const std::string& args)
+{
+    return "'" + std::string(OAS_RENDER_EXE) + "' " + args;
+}
+
+const std::string kScene = std::string(OAS_SOURCE_DIR) + "/scenes/cornell7d.json";
+
+}  // namespace
+
+TEST_F(ViewGpu, ConvergedScreenshotEqualsOasRenderImage)
+{
+    // Same scene, sampler, spp and seed: the viewer's passes (cut into smaller tiles) accumulate
+    // exactly oas-render's sums, and the window shows image::srgb8 of them, the PNG's bytes.
+    const fs::path dir = workDir("converged");
+    const Result v = view("'" + kScene + "' --sampler bose --spp 16 --seed 7 --zoom 1 --screenshot shot.png", dir, 110);
+    if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
+    const Result r = run(renderCommand("'" + kScene + "' --sampler bose --spp 16 --seed 7 -o ref.exr"), dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const Picture shot = decode(dir / "shot.png"), ref = decode(dir / "ref.png");
+    ASSERT_GT(shot.width, 0) << v.output;
+    ASSERT_EQ(shot.width, ref.width);
+    ASSERT_EQ(shot.height, ref.height);
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < shot.rgb.size(); ++i) differing += shot.rgb[i] != ref.rgb[i];
+    EXPECT_EQ(differing, 0u) << "of " << shot.rgb.size() << " bytes";
+    // Not a blank picture that would match anything blank.
+    std::set<unsigned char> values(shot.rgb.begin(), shot.rgb.end());
+    EXPECT_GT(values.size(), 50u);
+}
+
+TEST_F(ViewGpu, ScriptedKeysSwitchOffsetAndSppAndRestart)
+{
+    // o: cmj -> mj; + goes from 16 to Bose's next count at least twice that, 49 = 7^2 (36 is no
+    // Bose count: 6 is no prime power); r restarts; the screenshot is oas-render's image of the
+    // new settings, so the keys reached the renderer and the accumulation was cleared.
+    const fs::path dir = workDir("keys");
+    const Result v =
+        view("'" + kScene + "' --sampler bose --offset cmj --spp 16 --zoom 1 --script 'o@2 +@4 r@6' --screenshot shot.png",
+             dir, 130);
+    if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
+    const Result r = run(renderCommand("'" + kScene + "' --sampler bose --offset mj --spp 49 -o ref.exr"), dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const Picture shot = decode(dir / "shot.png"), ref = decode(dir / "ref.png");
+    ASSERT_EQ(shot.rgb.size(), ref.rgb.size()) << v.output;
+    EXPECT_TRUE(shot.rgb == ref.rgb) << "the scripted keys did not give bose mj at 49 spp";
+    // And the settings before the keys give a different picture (the comparison can fail).
+    const Result before = run(renderCommand("'" + kScene + "' --sampler bose --offset cmj --spp 16 -o before.exr"), dir);
+    ASSERT_EQ(before.status, 0) << before.output;
+    EXPECT_FALSE(decode(dir / "before.png").rgb == shot.rgb);
+}
+
+TEST_F(ViewGpu, SamplerKeyMovesToTheNextSamplerThatFits)
+{
+    // s from bose at 16 spp: the next in the list is bush, which makes 16 = 4^2 at strength 2.
+    const fs::path dir = workDir("sampler");
+    const Result v = view("'" + kScene + "' --sampler bose --spp 16 --zoom 1 --script 's@2' --screenshot shot.png", dir, 150);
+    if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
+    const Result r = run(renderCommand("'" + kScene + "' --sampler bush --spp 16 -o ref.exr"), dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(decode(dir / "shot.png").rgb == decode(dir / "ref.png").rgb) << v.output;
+}
+
+TEST_F(ViewGpu, PointsModeDrawsOasSamplesPointsInEveryStratumOnce)
+{
+    // Bose, 121 points, 4 dims, pair (0, 1): the white pixels of the projection panel are exactly
+    // where oas-samples puts pixel (0, 0)'s points, and each of the 11 x 11 strata holds one.
+    const fs::path dir = workDir("points");
+    const Result v =
+        view("--points --sampler bose --spp 121 --dims 4 --pair 0,1 --seed 3 --screenshot shot.png", dir, 170);
+    if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
+    const Result s = run("'" + std::string(OAS_SAMPLES_EXE) +
+                             "' --sampler bose --spp 121 --dims 4 --seed 3 --pixel 0,0 --format csv -o pts.csv",
+                         dir);
+    ASSERT_EQ(s.status, 0) << s.output;
+    const Picture shot = decode(dir / "shot.png");
+    const std::uint32_t size = oas::view::panelSize(121);  // 726 = 6 x 121
+    ASSERT_GE(shot.width, int(size));
+    ASSERT_GE(shot.height, int(size));
+    std::set<std::pair<std::uint32_t, std::uint32_t>> lit;
+    for (std::uint32_t y = 0; y < size; ++y)
+        for (std::uint32_t x = 0; x < size; ++x) {
+            const unsigned char* p = shot.at(int(x), int(y));
+            if (p[0] == 255 && p[1] == 255 && p[2] == 255) lit.insert({x, y});
+        }
+    std::set<std::pair<std::uint32_t, std::uint32_t>> expected;
+    std::ifstream csv(dir / "pts.csv");
+    std::string line;
+    while (std::getline(csv, line)) {
+        std::istringstream in(line);
+        std::vector<std::string> cells;
+        for (std::string c; std::getline(in, c, ',');) cells.push_back(c);
+        if (cells.size() < 2 || cells[0].find_first_not_of("0123456789.e-+") != std::string::npos) continue;
+        const float x = std::stof(cells[0]), y = std::stof(cells[1]);  // dims 0 and 1
+        expected.insert({oas::view::pixelOf(x, size), size - 1 - oas::view::pixelOf(y, size)});
+    }
+    ASSERT_EQ(expected.size(), 121u) << "read " << expected.size() << " points from oas-samples";
+    EXPECT_EQ(lit, expected);
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> cells;
+    for (const auto& [x, y] : lit) ++cells[{x * 11 / size, (size - 1 - y) * 11 / size}];
+    EXPECT_EQ(cells.size(), 121u);
+    for (const auto& [cell, n] : cells) EXPECT_EQ(n, 1) << "cell " << cell.first << "," << cell.second;
+}
+
+TEST_F(ViewGpu, ResizingAndClosingDuringARenderAreClean)
+{
+    // z resizes the window twice (1x -> 2x -> 3x) while a long render runs, q closes it mid-render:
+    // exit 0, no validation message, and the swapchain was rebuilt for the new sizes.
+    const fs::path dir = workDir("resize");
+    const Result v = view("'" + kScene + "' --spp 4096 --zoom 1 --script 'z@3 z@8 q@14'", dir, 190);
+    if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
+    EXPECT_NE(v.output.find("swapchain recreated"), std::string::npos) << v.output;
+    EXPECT_EQ(v.output.find("swapchain recreated 0 time"), std::string::npos) << v.output;
+}
+
+TEST(View, WithoutADisplayItSaysSoAndExits2)
+{
+    const fs::path dir = workDir("nodisplay");
+    const Result r = run("env -u DISPLAY -u WAYLAND_DISPLAY '" + std::string(OAS_VIEW_EXE) + "' '" + kScene + "'", dir);
+    EXPECT_EQ(r.status, 2) << r.output;
+    EXPECT_NE(r.output.find("no display"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("xvfb-run"), std::string::npos) << r.output;
+}
+
+TEST(View, BadArgumentsExit2AndSayWhy)
+{
+    const fs::path dir = workDir("badargs");
+    const std::string exe = "env -u DISPLAY '" + std::string(OAS_VIEW_EXE) + "' ";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"'" + kScene + "' --script 'x@'", "--script"},
+        {"'" + kScene + "' --script '#'", "unknown key"},
+        {"--points --dims 4 --pair 0,9", "--pair"},
+        {"--points --pair zero", "--pair"},
+        {"'" + kScene + "' --points", "--points takes no scene"},
+        {"", "give a scene file"},
+        {"--points --sampler bose --spp 120", "bose"},
+        {"'" + kScene + "' --reference '" + kScene + "'", "reference"},
+        {"/no/such/scene.json", "scene.json"},
+    };
+    for (const auto& [args, says] : cases) {
+        const Result r = run(exe + args, dir);
+        EXPECT_EQ(r.status, 2) << args << "\n" << r.output;
+        EXPECT_NE(r.output.find(says), std::string::npos) << args << "\n" << r.output;
+    }
+}
+
+TEST(ViewPoints, PanelAndPromiseFollowTheConstruction)
+{
+    EXPECT_EQ(oas::view::panelSize(121), 726u);
+    EXPECT_EQ(oas::view::panelSize(1024), 768u);
+    EXPECT_EQ(oas::view::panelSize(7), 763u);
+    EXPECT_EQ(oas::view::pixelOf(0.0f, 726), 0u);
+    EXPECT_EQ(oas::view::pixelOf(0.99999994f, 726), 725u);
+    oas::Pattern p;
+    p.construction = 1;  // Bose
+    p.offset = 3;        // CMJ
+    p.N = 121;
+    p.s = 11;
+    p.strength = 2;
+    p.blockDims = 12;
+    const auto same = oas::view::strataPromise(p, 0, 5);
+    EXPECT_EQ(same.grid, 11u);
+    EXPECT_TRUE(same.latinHypercube);
+    const auto across = oas::view::strataPromise(p, 0, 12);
+    EXPECT_EQ(across.grid, 0u);
+    p.construction = 16;  // Random: no promise
+    EXPECT_EQ(oas::view::strataPromise(p, 0, 1).grid, 0u);
+    EXPECT_FALSE(oas::view::strataPromise(p, 0, 1).latinHypercube);
+}
