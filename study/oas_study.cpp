@@ -120,21 +120,28 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
     std::ostringstream o;
     o << "# Study: which sampler should I use, and at what cost?\n\n"
       << "Orthogonal-array samplers (Jarosz et al. 2019) against the baselines of the paper, measured by this "
-         "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: at least 6 "
-         "renders per scene point plus 300 s of further renders per scene where they shrink the error bars "
-         "most; about an hour and a half on 2 cores) or `scripts/study.sh --quick` (about 11 minutes); "
+         "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: every sampler, "
+         "64 px, at least 6 renders per scene point plus 300 s of further renders per scene where they "
+         "shrink the error bars most, and the 7D and 9D scenes at the paper's 3969/4096 spp; many hours on "
+         "2 cores, see below) or `scripts/study.sh --quick` (about 11 minutes); "
          "`build/oas-study --parts ...` reruns single "
          "parts, and this file is reassembled from the parts' sections in `docs/study/*.md`. Each section "
          "states the machine, date and command that made it. Assembled " << today() << " on " << cpuModel()
       << ".\n\n"
-      << "Scope: the scene ladders run from 16 to 1024 spp, and the 7D and 9D scenes also at the paper's "
-         "3969/4096 (full mode); the 41D interior stops at 1024 because lavapipe renders it at about 0.4 "
-         "Mpaths/s. Images are 64 px wide for the same reason. Every relMSE is a mean over independent renders "
+      << "Scope: the scene ladders run from 16 to 1024 spp (full mode; the 7D and 9D scenes also at the "
+         "paper's 3969/4096), images are 64 px wide, because lavapipe renders these scenes at well under 1 "
+         "Mpaths/s on 2 cores. Every relMSE is a mean over independent renders "
          "with n and the standard error next to it (marked \"cap\" where the s.e. is still above 10% of the "
          "mean); verdicts are ties unless two numbers differ by more than twice their combined s.e. The scenes "
          "are ours (DESIGN §5), "
          "modelled on the paper's CornellBox 7D, BlueSpheres 9D and Barcelona 43D, so compare ratios with the "
          "paper's, not absolute errors.\n\n";
+    if (scenes.find("(full mode)") == std::string::npos && !scenes.empty())
+        o << "> **The scene figures below are not from the full mode**: their section gives the command and "
+             "settings (smaller images, shorter ladders, fewer renders per point). The full mode (every "
+             "sampler, 64 px, ladders to 1024 spp and the 7D and 9D scenes at 4096, 6+ renders per point) takes "
+             "an estimated 6 to 9 hours of lavapipe time on 2 cores and has not been rerun with the current "
+             "code. The other parts' sections say which mode made them.\n\n";
     o << "## Goals\n\n";
     if (!analytic.empty()) {
         std::istringstream in(analytic);
@@ -595,6 +602,9 @@ int main(int argc, char** argv)
             so.outDir = outDir;
             so.command = command;
             so.quick = quick;
+            const bool customScenes = sceneWidth || sceneMaxSpp || sceneMinTrials || sceneMaxTrials || referenceSpp ||
+                                      scenePaperSpp >= 0 || sceneExtraSeconds >= 0 || !sceneNames.empty();
+            so.modeLabel = quick ? "quick mode" : customScenes ? "reduced settings: see the command" : "full mode";
             so.scenesDir = scenesDir;
             so.scenes = sceneNames;
             so.width = sceneWidth ? sceneWidth : (quick ? 32 : 64);

@@ -470,7 +470,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     md << "## Scenes: relative MSE versus samples and versus time\n\n"
        << "- Device: " << deviceName << " (the CI machine's Vulkan; every figure below is lavapipe wall-clock time)\n"
-       << "- Command: `build/" << o.command << "`" << (o.quick ? " (quick mode)" : " (full mode)") << "; scene part run time "
+       << "- Command: `build/" << o.command << "`" << " (" << o.modeLabel << ")" << "; scene part run time "
        << fmtF(seconds, 0) << " s\n"
        << "- Images " << o.width << " px wide; spp from " << o.minSpp << " to " << o.maxSpp
        << (o.paperHighSpp > o.maxSpp ? ", and for the 7D and 9D scenes also each sampler's valid count nearest " +
@@ -518,6 +518,22 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     md << "\nThe smallest measured relMSE is the smallest per-point mean.\n\n"
        << "![relMSE vs spp](study/scene_error_vs_spp.png)\n\n![relMSE vs time](study/scene_error_vs_time.png)\n\n";
 
+    // One row of the tables at a paper count: the sampler's estimate at ladder count n, against
+    // Random at the same count and against CMJ2D-pad's estimate `cmjRef`.
+    auto countRow = [&](const SceneInfo& info, const SamplerSpec& s, const SceneCurve& c, double n,
+                        const SceneCurve* rnd, const Estimate& cmjRef) {
+        const Estimate e = estAt(c, n, 0), ec = estAt(c, n, 1);
+        const Estimate r = randomAt(rnd, n);
+        double secs = NAN;
+        for (size_t i = 0; i < c.spp.size(); ++i)
+            if (c.spp[i] == n) secs = c.seconds[i];
+        md << "| " << info.name << " | " << s.label << " | " << n << " | " << fmtEstimate(e) << " | "
+           << fmtEstimate(ec) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
+           << (s.label == "Random" ? "—" : verdictCell(e, r)) << " | "
+           << fmtRatio(ratioTo(e, cmjRef, s.label == "CMJ2D-pad")) << " | "
+           << (s.label == "CMJ2D-pad" ? "—" : verdictCell(e, cmjRef)) << " | " << fmtF(secs * 1000, 0) << " |\n";
+        return std::pair<Estimate, Estimate>{e, r};
+    };
     // --- At the paper's sample count (~121/128 spp) -------------------------------------------
     std::string goal7d = "not measured";
     std::string goal7dText;
@@ -537,15 +553,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             const SceneCurve* c = curveOf(info.name, s.label);
             if (!c) continue;
             const double n = nearest(c->spp, 128);
-            const Estimate e = estAt(*c, n, 0), ec = estAt(*c, n, 1);
-            const Estimate r = randomAt(rnd, n);
-            double secs = NAN;
-            for (size_t i = 0; i < c->spp.size(); ++i)
-                if (c->spp[i] == n) secs = c->seconds[i];
-            md << "| " << info.name << " | " << s.label << " | " << n << " | " << fmtEstimate(e) << " | "
-               << fmtEstimate(ec) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
-               << (s.label == "Random" ? "—" : verdictCell(e, r)) << " | " << fmtRatio(ratioTo(e, cmj128, s.label == "CMJ2D-pad")) << " | "
-               << (s.label == "CMJ2D-pad" ? "—" : verdictCell(e, cmj128)) << " | " << fmtF(secs * 1000, 0) << " |\n";
+            const auto [e, r] = countRow(info, s, *c, n, rnd, cmj128);
             // The goal is about the paper's count: an OA whose nearest count is above 128 (Addelman-
             // Kempthorne's 162) has more samples, so it does not compete for "best OA at <= 128".
             if (isOa(s) && n <= 128 && std::isfinite(e.mean) && !(e.mean >= bestOa.mean))
@@ -636,16 +644,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 if (!c) continue;
                 const double n = nearest(c->spp, high);
                 if (std::abs(std::log2(n / high)) > 0.26) continue;  // no count near it
-                const Estimate e = estAt(*c, n, 0), ec = estAt(*c, n, 1);
-                const Estimate r = randomAt(rnd, n);
-                double secs = NAN;
-                for (size_t i = 0; i < c->spp.size(); ++i)
-                    if (c->spp[i] == n) secs = c->seconds[i];
-                md << "| " << info.name << " | " << s.label << " | " << n << " | " << fmtEstimate(e) << " | "
-                   << fmtEstimate(ec) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
-                   << (s.label == "Random" ? "—" : verdictCell(e, r)) << " | "
-                   << fmtRatio(ratioTo(e, cmjHigh, s.label == "CMJ2D-pad")) << " | "
-                   << (s.label == "CMJ2D-pad" ? "—" : verdictCell(e, cmjHigh)) << " | " << fmtF(secs * 1000, 0) << " |\n";
+                countRow(info, s, *c, n, rnd, cmjHigh);
             }
         }
         md << "\n";

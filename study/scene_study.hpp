@@ -50,6 +50,9 @@ struct SceneStudyOptions {
     std::string outDir = "docs/study";
     std::string command;  ///< how the study was invoked (for the markdown)
     bool quick = false;
+    /// How the section names its settings: "quick mode", "full mode", or "reduced settings" when
+    /// the command changed the full mode's scene options (the command line is printed too).
+    std::string modeLabel = "full mode";
 };
 
 /// One render's measurement.

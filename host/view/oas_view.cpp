@@ -377,12 +377,16 @@ public:
             tracer_->trace(cursor_->batch());
             const double dt = secondsSince(t);
             traceSeconds_ += dt;
-            // Keep every dispatch near 10-40 ms, so that a frame never waits long for one; the
-            // tile only changes between passes, which leaves the accumulation as oas-render's.
-            if (dt > 0.04 && tile_ > 16) tile_ /= 2;
-            if (dt < 0.01 && tile_ < oas::render::kRenderTile) tile_ *= 2;
-            cursor_->setTile(tile_);
-            cursor_->advance();
+            passSlowest_ = std::max(passSlowest_, dt);
+            if (cursor_->advance()) {
+                // Keep the slowest dispatch of a pass near 10-40 ms, so that a frame never waits long
+                // for one (tiles of one image differ in cost many times over: the slowest decides).
+                // The tile only changes between passes, which leaves the accumulation oas-render's.
+                if (passSlowest_ > 0.04 && tile_ > 8) tile_ /= 2;
+                else if (passSlowest_ < 0.01 && tile_ < oas::render::kRenderTile) tile_ *= 2;
+                cursor_->setTile(tile_);
+                passSlowest_ = 0;
+            }
         }
         const std::uint32_t done = cursor_->samplesDone();
         if (done != samplesShown_ || shown_.width == 0 || falseColour_ != shownFalseColour_) {
@@ -462,9 +466,9 @@ private:
     std::unique_ptr<oas::render::GpuTracer> tracer_;
     std::future<std::unique_ptr<oas::render::GpuTracer>> building_;
     std::optional<oas::render::BatchCursor> cursor_;
-    std::uint32_t tile_ = 64, zoom_ = 1, samplesShown_ = 0;
+    std::uint32_t tile_ = 32, zoom_ = 1, samplesShown_ = 0;
     bool falseColour_ = false, shownFalseColour_ = false, started_ = false;
-    double traceSeconds_ = 0, relMse_ = 0;
+    double traceSeconds_ = 0, relMse_ = 0, passSlowest_ = 0;
     Clock::time_point renderStart_ = Clock::now(), buildStart_ = Clock::now();
     oas::image::Image image_;
     oas::view::Frame shown_;
@@ -533,41 +537,33 @@ public:
         }
     }
 
+    /// Points and spectrum are made on a worker thread (the generation kernel's pipeline build
+    /// takes seconds on lavapipe); meanwhile busy() keeps the main thread from presenting, so the
+    /// queue has one user at a time, and keys pressed meanwhile start the next job.
     const oas::view::Frame& frame(Viewer& v)
     {
-        if (!dirty_) return shown_;
-        if (!generator_) generator_ = std::make_unique<oas::GpuGenerator>(v.context());
-        // Points of kSets pixels from the GPU kernel: pixel 0 is drawn, all of them average the
-        // spectrum (one randomization's periodogram is mostly noise).
-        oas::SampleRequest req;
-        req.width = kSets;
-        req.height = 1;
-        req.spp = pattern_.N;
-        req.dims = dims_;
-        req.seed = o_.seed;
-        std::vector<float> pts(std::size_t(kSets) * pattern_.N * dims_);
-        generator_->generate(pattern_, req, pts.data());
-        auto column = [&](std::uint32_t set, std::uint32_t dim) {
-            std::vector<float> c(pattern_.N);
-            for (std::uint32_t i = 0; i < pattern_.N; ++i) c[i] = pts[(std::size_t(set) * pattern_.N + i) * dims_ + dim];
-            return c;
-        };
-        const std::uint32_t size = oas::view::panelSize(pattern_.N);
-        promise_ = oas::view::strataPromise(pattern_, a_, b_);
-        const oas::view::Frame left = oas::view::drawProjection(column(0, a_), column(0, b_), size, promise_, pattern_.N);
-        std::vector<double> power(std::size_t(2 * kRadius + 1) * (2 * kRadius + 1), 0.0);
-        for (std::uint32_t set = 0; set < kSets; ++set) {
-            const auto xs = column(set, a_), ys = column(set, b_);
-            oas::study::addPeriodogram(xs.data(), ys.data(), pattern_.N, kRadius, power);
+        if (job_.valid()) {
+            if (job_.wait_for(std::chrono::milliseconds(30)) != std::future_status::ready) return shown_;
+            shown_ = job_.get();
         }
-        for (auto& p : power) p /= kSets;
-        shown_ = oas::view::sideBySide(left, oas::view::drawSpectrum(power, kRadius, size), kGap);
-        dirty_ = false;
+        if (dirty_) {
+            dirty_ = false;
+            job_ = std::async(std::launch::async, [this, &v, pattern = pattern_, a = a_, b = b_, dims = dims_] {
+                return draw(v, pattern, a, b, dims);
+            });
+            promise_ = oas::view::strataPromise(pattern_, a_, b_);
+        }
         return shown_;
     }
-    bool complete() const { return !dirty_; }
-    bool busy() const { return false; }
-    void release() { generator_.reset(); }
+    bool complete() const { return !dirty_ && !job_.valid() && shown_.width > 0; }
+    /// A job is using the queue on another thread: do not present.
+    bool busy() const { return job_.valid(); }
+    void release()
+    {
+        if (job_.valid()) job_.wait();
+        job_ = {};
+        generator_.reset();
+    }
     bool takeSaveRequest() { return std::exchange(saveRequested_, false); }
     std::string stem() const { return stem_; }
     std::string title() const
@@ -580,6 +576,36 @@ public:
 private:
     static constexpr std::uint32_t kSets = 16, kGap = 8;
     static constexpr int kRadius = 32;
+
+    /// The projection of pixel (0, 0)'s points and the spectrum averaged over kSets pixels, from
+    /// the GPU kernel (one randomization's periodogram is mostly noise).
+    oas::view::Frame draw(Viewer& v, const oas::Pattern& pattern, std::uint32_t a, std::uint32_t b, std::uint32_t dims)
+    {
+        if (!generator_) generator_ = std::make_unique<oas::GpuGenerator>(v.context());
+        oas::SampleRequest req;
+        req.width = kSets;
+        req.height = 1;
+        req.spp = pattern.N;
+        req.dims = dims;
+        req.seed = o_.seed;
+        std::vector<float> pts(std::size_t(kSets) * pattern.N * dims);
+        generator_->generate(pattern, req, pts.data());
+        auto column = [&](std::uint32_t set, std::uint32_t dim) {
+            std::vector<float> c(pattern.N);
+            for (std::uint32_t i = 0; i < pattern.N; ++i) c[i] = pts[(std::size_t(set) * pattern.N + i) * dims + dim];
+            return c;
+        };
+        const std::uint32_t size = oas::view::panelSize(pattern.N);
+        const auto promise = oas::view::strataPromise(pattern, a, b);
+        const oas::view::Frame left = oas::view::drawProjection(column(0, a), column(0, b), size, promise, pattern.N);
+        std::vector<double> power(std::size_t(2 * kRadius + 1) * (2 * kRadius + 1), 0.0);
+        for (std::uint32_t set = 0; set < kSets; ++set) {
+            const auto xs = column(set, a), ys = column(set, b);
+            oas::study::addPeriodogram(xs.data(), ys.data(), pattern.N, kRadius, power);
+        }
+        for (auto& p : power) p /= kSets;
+        return oas::view::sideBySide(left, oas::view::drawSpectrum(power, kRadius, size), kGap);
+    }
 
     /// Next/previous pair (a, b), a < b, in the order (0,1) (0,2) ... (0,D-1) (1,2) ...
     void step(int dir)
@@ -619,6 +645,7 @@ private:
     oas::view::StrataPromise promise_;
     std::unique_ptr<oas::GpuGenerator> generator_;
     oas::view::Frame shown_;
+    std::future<oas::view::Frame> job_;
     bool dirty_ = true, saveRequested_ = false;
 };
 
