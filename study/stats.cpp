@@ -256,7 +256,7 @@ Estimate ratioOf(const Estimate& a, const Estimate& b)
 
 namespace {
 
-/// The draws of one point and the tests on them (shared by adaptiveMeans and budgetedMeans).
+/// The draws of one point and the tests on them (budgetedMeans; adaptiveMeans is its one-point case).
 struct DrawnPoint {
     std::vector<AdaptiveResult> r;
     std::uint32_t n = 0;
@@ -291,17 +291,6 @@ struct DrawnPoint {
 };
 
 }  // namespace
-
-std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw,
-                                          std::size_t targeted, const AdaptiveOptions& o)
-{
-    const std::uint32_t nMax = std::max<std::uint32_t>(1, o.nMax), nMin = std::clamp<std::uint32_t>(o.nMin, 1, nMax);
-    DrawnPoint p;
-    while (p.n < nMin) p.add(draw(p.n), targeted);
-    while (p.n < nMax && !(p.worstRelSe(targeted) <= o.relTarget)) p.add(draw(p.n), targeted);
-    p.finish(o.relTarget);
-    return p.r;
-}
 
 std::vector<std::vector<AdaptiveResult>> budgetedMeans(
     std::size_t points, const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
@@ -338,6 +327,17 @@ std::vector<std::vector<AdaptiveResult>> budgetedMeans(
         out.push_back(std::move(p.r));
     }
     return out;
+}
+
+// One point with an unlimited budget is exactly the per-point loop: nMin draws, then more while
+// above the target and below nMax.
+std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw,
+                                          std::size_t targeted, const AdaptiveOptions& o)
+{
+    return budgetedMeans(
+               1, [&](std::size_t, std::uint32_t i) { return CostedDraw{draw(i), 1.0}; }, targeted, o,
+               std::numeric_limits<double>::infinity())
+        .front();
 }
 
 AdaptiveResult adaptiveMean(const std::function<double(std::uint32_t)>& draw, const AdaptiveOptions& o)

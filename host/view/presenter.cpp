@@ -193,9 +193,6 @@ Presenter::Presenter(vk::Context& context, GLFWwindow* window) : impl_(std::make
 
 Presenter::~Presenter() = default;
 
-std::uint32_t Presenter::width() const { return impl_->extent.width; }
-std::uint32_t Presenter::height() const { return impl_->extent.height; }
-
 bool Presenter::present(const Frame& frame, bool readBack)
 {
     Impl& m = *impl_;

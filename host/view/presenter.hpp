@@ -45,10 +45,6 @@ public:
     Presenter(const Presenter&) = delete;
     Presenter& operator=(const Presenter&) = delete;
 
-    /// The swapchain's size (the window's framebuffer); 0 x 0 while minimised.
-    std::uint32_t width() const;
-    std::uint32_t height() const;
-
     /// Shows `frame` at the window's top-left corner (the rest dark grey; a larger frame is
     /// clipped). With readBack, the swapchain image is copied back after the frame is written
     /// into it: lastShown() then holds the window's content. Returns false when nothing was
