@@ -4,7 +4,8 @@
 # gets at least 6 renders, then each scene shares 300 s of further renders among the points whose
 # relMSE s.e. is still above 10% of the mean (--scene-min-trials, --scene-extra-seconds,
 # --scene-max-trials), and the 7D and 9D scenes add the paper's 3969/4096 spp (--scene-paper-spp).
-# Other oas-study options pass through, e.g. --parts scenes to rerun one part.
+# Other oas-study options pass through, e.g. --parts scenes to rerun one part, or
+# --parts scenes --scene cornell7d to (re)measure one scene and merge it with the others (shards).
 # Plots need Debian's python3-matplotlib, installed here when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -136,12 +136,13 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
          "are ours (DESIGN §5), "
          "modelled on the paper's CornellBox 7D, BlueSpheres 9D and Barcelona 43D, so compare ratios with the "
          "paper's, not absolute errors.\n\n";
-    if (scenes.find("(full mode)") == std::string::npos && !scenes.empty())
-        o << "> **The scene figures below are not from the full mode**: their section gives the command and "
-             "settings (smaller images, shorter ladders, fewer renders per point). The full mode (every "
-             "sampler, 64 px, ladders to 1024 spp and the 7D and 9D scenes at 4096, 6+ renders per point) takes "
-             "an estimated 6 to 9 hours of lavapipe time on 2 cores and has not been rerun with the current "
-             "code. The other parts' sections say which mode made them.\n\n";
+    if (scenes.find("- Mode: full mode for every scene") == std::string::npos && !scenes.empty())
+        o << "> **Not every scene figure below is from the full mode**: the scene section's first table gives "
+             "each scene's command and settings (smaller images, shorter ladders, fewer renders per point). The "
+             "full mode (every sampler, 64 px, ladders to 1024 spp and the 7D and 9D scenes at 4096, 6+ renders "
+             "per point) takes an estimated 2 to 3 hours of lavapipe time per scene on 2 cores; "
+             "`scripts/study.sh --parts scenes --scene NAME` runs one scene and merges it into the section "
+             "(shards). The other parts' sections say which mode made them.\n\n";
     o << "## Goals\n\n";
     if (!analytic.empty()) {
         std::istringstream in(analytic);
@@ -208,7 +209,7 @@ int main(int argc, char** argv)
     std::int64_t scenePaperSpp = -1;
     double sceneRelSe = 0.1, sceneExtraSeconds = -1;
     app.add_option("--parts", parts, "parts to run: analytic pairs spectra cost scenes (default: all), or none (only reassemble "
-                                     "STUDY.md and redraw); STUDY.md is assembled from every part's section in the "
+                                     "the scene section from its data files, STUDY.md, and redraw); STUDY.md is assembled from every part's section in the "
                                      "output folder")
         ->check(CLI::IsMember({"analytic", "pairs", "spectra", "cost", "scenes", "none"}));
     app.add_option("--scenes-dir", scenesDir, "scene folder (scenes)");
@@ -602,6 +603,8 @@ int main(int argc, char** argv)
             so.outDir = outDir;
             so.command = command;
             so.quick = quick;
+            so.date = today();
+            so.machine = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " threads)";
             const bool customScenes = sceneWidth || sceneMaxSpp || sceneMinTrials || sceneMaxTrials || referenceSpp ||
                                       scenePaperSpp >= 0 || sceneExtraSeconds >= 0 || !sceneNames.empty();
             so.modeLabel = quick ? "quick mode" : customScenes ? "reduced settings: see the command" : "full mode";
@@ -627,6 +630,12 @@ int main(int argc, char** argv)
                 if (!quick || s.label == "BoseCMJ" || s.label == "Random" || s.label == "CMJ2D-pad" || s.label == "Sobol")
                     sceneSamplers.push_back(s);
             writeSection(outDir + "/scenes.md", runSceneStudy(so, sceneSamplers, device()));
+        }
+        // Reassembling: the scene section again from its data files (e.g. after merging shards by
+        // hand, or after a change to the tables); the other parts' sections are kept as they are.
+        if (wants("none")) {
+            const std::string section = sceneSectionFromFiles(outDir, samplers);
+            if (!section.empty()) writeSection(outDir + "/scenes.md", section);
         }
         if (!studyMd.empty()) assembleStudy(studyMd, outDir);
     } catch (const std::exception& e) {

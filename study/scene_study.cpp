@@ -222,6 +222,227 @@ std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measuremen
     return curves;
 }
 
+namespace {
+
+const std::vector<std::string> kEqualTimeColumns = {"scene", "sampler", "spp", "seconds", "budget_seconds", "rel_mse", "image"};
+
+const std::vector<std::string> kMeasurementColumns = {"scene",          "sampler",      "pattern",          "spp",
+                                                      "trial",          "seconds",      "rel_mse",          "rel_mse_crop",
+                                                      "rel_mse_raw",    "rel_mse_crop_raw", "rel_mse_worst"};
+
+const std::vector<std::string> kRecordColumns = {
+    "scene",     "width",     "height",       "dims",        "reference_sampler", "reference_spp", "ref_rel_mse",
+    "ref_rel_mse_crop", "seconds", "crop_x", "crop_y",       "crop_w",      "crop_h",            "largest_spp",
+    "device",    "machine",   "date",         "command",     "mode",              "min_spp",       "max_spp",
+    "paper_spp", "min_renders", "max_renders", "rel_se_target", "extra_seconds", "run_seconds"};
+
+/// Cell `name` of `row` as a number: the whole cell must parse (strtod), else the error names the
+/// file, the data row and the column.
+double number(const CsvRows& t, const std::vector<std::string>& row, const std::string& name, const std::string& file,
+              size_t rowIndex)
+{
+    const std::string& cell = row[t.column(name, file)];
+    char* end = nullptr;
+    const double v = std::strtod(cell.c_str(), &end);
+    if (cell.empty() || end != cell.c_str() + cell.size())
+        throw std::runtime_error(file + ": row " + std::to_string(rowIndex + 1) + ", column \"" + name + "\": \"" + cell +
+                                 "\" is not a number");
+    return v;
+}
+
+std::uint32_t count(const CsvRows& t, const std::vector<std::string>& row, const std::string& name,
+                    const std::string& file, size_t rowIndex)
+{
+    const double v = number(t, row, name, file, rowIndex);
+    if (!(v >= 0 && v <= 4294967295.0) || v != std::floor(v))
+        throw std::runtime_error(file + ": row " + std::to_string(rowIndex + 1) + ", column \"" + name + "\": " +
+                                 fmtG(v) + " is not a count in [0, 2^32 - 1]");
+    return std::uint32_t(v);
+}
+
+/// Position of a scene in studyScenes() (unknown names after them).
+size_t sceneRank(const std::string& name)
+{
+    const auto cases = studyScenes();
+    for (size_t i = 0; i < cases.size(); ++i)
+        if (std::filesystem::path(cases[i].file).stem().string() == name) return i;
+    return cases.size();
+}
+
+/// What the scene's crop shows (studyScenes()); empty for other scenes.
+std::string cropWhatOf(const std::string& name)
+{
+    for (const auto& c : studyScenes())
+        if (std::filesystem::path(c.file).stem().string() == name) return c.cropWhat;
+    return "";
+}
+
+template <class T, class NameOf>
+std::vector<T> mergeByScene(const std::vector<T>& kept, const std::vector<T>& fresh, NameOf nameOf)
+{
+    std::vector<T> all;
+    for (const auto& k : kept)
+        if (std::none_of(fresh.begin(), fresh.end(), [&](const T& f) { return nameOf(f) == nameOf(k); }))
+            all.push_back(k);
+    all.insert(all.end(), fresh.begin(), fresh.end());
+    // Scene order (studyScenes(), then first appearance); rows keep their order within a scene.
+    std::vector<std::string> order;
+    for (const auto& a : all)
+        if (std::find(order.begin(), order.end(), nameOf(a)) == order.end()) order.push_back(nameOf(a));
+    std::stable_sort(order.begin(), order.end(),
+                     [](const std::string& a, const std::string& b) { return sceneRank(a) < sceneRank(b); });
+    std::vector<T> sorted;
+    for (const auto& name : order)
+        for (const auto& a : all)
+            if (nameOf(a) == name) sorted.push_back(a);
+    return sorted;
+}
+
+/// Each record's curves, its points marked capped by its own s.e. target.
+std::vector<SceneCurve> curvesOfRecords(const std::vector<SceneRecord>& records,
+                                        const std::vector<SceneMeasurement>& measurements)
+{
+    std::vector<SceneCurve> curves;
+    for (const auto& r : records) {
+        std::vector<SceneMeasurement> mine;
+        for (const auto& m : measurements)
+            if (m.scene == r.name) mine.push_back(m);
+        for (auto& c : curvesOf(mine, r.relSeTarget)) curves.push_back(std::move(c));
+    }
+    return curves;
+}
+
+/// Every point with its n and standard errors; "capped" = the s.e. target was not reached (full
+/// image or crop) before maxTrials. plot.py draws the error bars from the *_se columns.
+void writeCurves(const std::string& path, const std::vector<SceneCurve>& curves)
+{
+    CsvTable curveCsv({"scene", "sampler", "spp", "seconds", "rel_mse", "rel_mse_crop", "n", "rel_mse_se",
+                       "rel_mse_crop_se", "capped", "rel_mse_without_worst", "rel_mse_without_worst_se",
+                       "rel_mse_worst", "rel_mse_worst_se"});
+    for (const auto& c : curves)
+        for (size_t i = 0; i < c.spp.size(); ++i)
+            curveCsv.add({c.scene, c.sampler, fmtG(c.spp[i]), fmtG(c.seconds[i]), fmtG(c.relMse[i]),
+                          fmtG(c.relMseCrop[i]), std::to_string(c.relMseE[i].n), fmtG(c.relMseE[i].se),
+                          fmtG(c.relMseCropE[i].se), c.relMseE[i].capped || c.relMseCropE[i].capped ? "1" : "0",
+                          fmtG(c.relMseRestE[i].mean), fmtG(c.relMseRestE[i].se), fmtG(c.worstE[i].mean),
+                          fmtG(c.worstE[i].se)});
+    curveCsv.write(path);
+}
+
+}  // namespace
+
+void writeSceneRecords(const std::string& path, const std::vector<SceneRecord>& records)
+{
+    CsvTable t(kRecordColumns);
+    for (const auto& r : records)
+        t.add({r.name, std::to_string(r.width), std::to_string(r.height), std::to_string(r.dims), r.referenceSampler,
+               std::to_string(r.referenceSpp), fmtG(r.refErr, 9), fmtG(r.refErrCrop, 9), fmtG(r.refSeconds),
+               std::to_string(r.crop.x), std::to_string(r.crop.y), std::to_string(r.crop.w), std::to_string(r.crop.h),
+               std::to_string(r.largestSpp), r.device, r.machine, r.date, r.command, r.modeLabel,
+               std::to_string(r.minSpp), std::to_string(r.maxSpp), std::to_string(r.paperHighSpp),
+               std::to_string(r.minTrials), std::to_string(r.maxTrials), fmtG(r.relSeTarget), fmtG(r.extraSeconds),
+               fmtG(r.runSeconds)});
+    t.write(path);
+}
+
+std::vector<SceneRecord> readSceneRecords(const std::string& path)
+{
+    const CsvRows t = readCsv(path);
+    std::vector<SceneRecord> out;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        const auto& row = t.rows[i];
+        auto text = [&](const char* name) { return row[t.column(name, path)]; };
+        auto num = [&](const char* name) { return number(t, row, name, path, i); };
+        auto cnt = [&](const char* name) { return count(t, row, name, path, i); };
+        SceneRecord r;
+        r.name = text("scene");
+        r.width = cnt("width");
+        r.height = cnt("height");
+        r.dims = cnt("dims");
+        r.referenceSampler = text("reference_sampler");
+        r.referenceSpp = cnt("reference_spp");
+        r.refErr = num("ref_rel_mse");
+        r.refErrCrop = num("ref_rel_mse_crop");
+        r.refSeconds = num("seconds");
+        r.crop = {cnt("crop_x"), cnt("crop_y"), cnt("crop_w"), cnt("crop_h")};
+        r.largestSpp = cnt("largest_spp");
+        r.device = text("device");
+        r.machine = text("machine");
+        r.date = text("date");
+        r.command = text("command");
+        r.modeLabel = text("mode");
+        r.minSpp = cnt("min_spp");
+        r.maxSpp = cnt("max_spp");
+        r.paperHighSpp = cnt("paper_spp");
+        r.minTrials = cnt("min_renders");
+        r.maxTrials = cnt("max_renders");
+        r.relSeTarget = num("rel_se_target");
+        r.extraSeconds = num("extra_seconds");
+        r.runSeconds = num("run_seconds");
+        if (r.name.empty() || r.width == 0 || r.height == 0 || r.crop.w == 0 || r.crop.h == 0 ||
+            r.crop.x + r.crop.w > r.width || r.crop.y + r.crop.h > r.height || !(r.relSeTarget > 0))
+            throw std::runtime_error(path + ": row " + std::to_string(i + 1) +
+                                     ": the scene name, size, crop (inside the image) or s.e. target is invalid");
+        if (std::any_of(out.begin(), out.end(), [&](const SceneRecord& o) { return o.name == r.name; }))
+            throw std::runtime_error(path + ": scene \"" + r.name + "\" appears twice");
+        out.push_back(std::move(r));
+    }
+    return out;
+}
+
+void writeSceneMeasurements(const std::string& path, const std::vector<SceneMeasurement>& measurements)
+{
+    CsvTable csv(kMeasurementColumns);
+    for (const auto& m : measurements)
+        csv.add({m.scene, m.sampler, m.pattern, std::to_string(m.spp), std::to_string(m.trial), fmtG(m.seconds),
+                 fmtG(m.relMse), fmtG(m.relMseCrop), fmtG(m.relMseRaw), fmtG(m.relMseCropRaw), fmtG(m.relMseWorst)});
+    csv.write(path);
+}
+
+std::vector<SceneMeasurement> readSceneMeasurements(const std::string& path)
+{
+    const CsvRows t = readCsv(path);
+    std::vector<SceneMeasurement> out;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        const auto& row = t.rows[i];
+        auto num = [&](const char* name) { return number(t, row, name, path, i); };
+        SceneMeasurement m;
+        m.scene = row[t.column("scene", path)];
+        m.sampler = row[t.column("sampler", path)];
+        m.pattern = row[t.column("pattern", path)];
+        m.spp = count(t, row, "spp", path, i);
+        m.trial = count(t, row, "trial", path, i);
+        m.seconds = num("seconds");
+        m.relMse = num("rel_mse");
+        m.relMseCrop = num("rel_mse_crop");
+        m.relMseRaw = num("rel_mse_raw");
+        m.relMseCropRaw = num("rel_mse_crop_raw");
+        m.relMseWorst = num("rel_mse_worst");
+        if (m.spp == 0 || !(m.seconds >= 0))
+            throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ": spp must be >= 1 and seconds >= 0");
+        out.push_back(std::move(m));
+    }
+    return out;
+}
+
+std::vector<SceneRecord> mergeSceneRecords(const std::vector<SceneRecord>& kept, const std::vector<SceneRecord>& fresh)
+{
+    return mergeByScene(kept, fresh, [](const SceneRecord& r) { return r.name; });
+}
+
+std::vector<SceneMeasurement> mergeSceneMeasurements(const std::vector<SceneMeasurement>& kept,
+                                                     const std::vector<SceneMeasurement>& fresh)
+{
+    return mergeByScene(kept, fresh, [](const SceneMeasurement& m) { return m.scene; });
+}
+
+std::string sceneSectionFromFiles(const std::string& outDir, const std::vector<SamplerSpec>& samplers)
+{
+    const std::string refPath = outDir + "/scene_references.csv", csvPath = outDir + "/scenes.csv";
+    if (!std::filesystem::exists(refPath) || !std::filesystem::exists(csvPath)) return "";
+    return sceneSection(readSceneRecords(refPath), readSceneMeasurements(csvPath), samplers);
+}
+
 std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerSpec>& samplers, oas::vk::Context& context)
 {
     const auto t0 = Clock::now();
@@ -240,20 +461,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                                                    "(cornell7d, blue_spheres9d, interior_deep)");
 
     std::vector<SceneMeasurement> all;
-    CsvTable refCsv({"scene", "width", "height", "dims", "reference_sampler", "reference_spp", "ref_rel_mse",
-                     "ref_rel_mse_crop", "seconds", "crop_x", "crop_y", "crop_w", "crop_h"});
-    struct SceneInfo {
-        std::string name;
-        std::uint32_t width, height, dims;
-        oas::image::Crop crop;
-        double refErr, refErrCrop;
-        std::uint32_t referenceSpp = 0, largestSpp = 0;
-        std::string cropWhat;
-        // trial-0 images per (sampler, spp), for the equal-time error pictures
-        std::map<std::pair<std::string, std::uint32_t>, oas::image::Image> images;
-        oas::image::Image reference;
-    };
-    std::vector<SceneInfo> infos;
+    std::vector<SceneRecord> records;
+    CsvTable eq(kEqualTimeColumns);
     // Random and Halton also render at Bose's counts (matched spp with the OAs).
     const SamplerSpec bose = studySamplers().front();
 
@@ -265,13 +474,28 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         const auto plan = oas::render::planDimensions(scene);
         const auto data = oas::render::flattenScene(scene);
         TracerCache cache(context, data, plan);
-        SceneInfo info;
+        const auto sceneStart = Clock::now();
+        SceneRecord info;
+        // trial-0 images per (sampler, spp), for the equal-time error pictures
+        std::map<std::pair<std::string, std::uint32_t>, oas::image::Image> images;
+        oas::image::Image reference;
+        info.device = deviceName;
+        info.machine = o.machine;
+        info.date = o.date;
+        info.command = o.command;
+        info.modeLabel = o.modeLabel;
+        info.minSpp = o.minSpp;
+        info.maxSpp = o.maxSpp;
+        info.paperHighSpp = sc.paperHighCount && o.paperHighSpp > o.maxSpp ? o.paperHighSpp : 0;
+        info.minTrials = o.minTrials;
+        info.maxTrials = std::max(o.minTrials, o.maxTrials);
+        info.relSeTarget = o.relSeTarget;
+        info.extraSeconds = o.extraSecondsPerScene;
         info.name = scene.name;
         info.width = scene.width;
         info.height = scene.height;
         info.dims = plan.usedDims;
         info.crop = cropPixels(sc, scene.width, scene.height);
-        info.cropWhat = sc.cropWhat;
 
         // Every (sampler, spp) pattern first, so that all pipelines can be built up front.
         std::vector<std::vector<std::pair<std::uint32_t, oas::Pattern>>> runs(samplers.size());
@@ -334,16 +558,13 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         auto& refTracer = cache.get(refPattern);
         const Render a = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0xA5A5A5A5u + si);
         const Render b = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0x5A5A5A5Au + si);
-        info.reference = a.image;
-        for (std::size_t i = 0; i < info.reference.rgba.size(); ++i)
-            info.reference.rgba[i] = 0.5f * (a.image.rgba[i] + b.image.rgba[i]);
+        reference = a.image;
+        for (std::size_t i = 0; i < reference.rgba.size(); ++i)
+            reference.rgba[i] = 0.5f * (a.image.rgba[i] + b.image.rgba[i]);
         info.refErr = oas::image::compare(a.image, b.image).relMse / 4;
         info.refErrCrop = oas::image::compare(a.image, b.image, info.crop).relMse / 4;
-        refCsv.add({info.name, std::to_string(info.width), std::to_string(info.height), std::to_string(info.dims),
-                    "sobol", std::to_string(referenceSpp), fmtG(info.refErr), fmtG(info.refErrCrop),
-                    fmtG(a.seconds + b.seconds), std::to_string(info.crop.x), std::to_string(info.crop.y),
-                    std::to_string(info.crop.w), std::to_string(info.crop.h)});
-        oas::image::writePngPreview(imgDir + "/" + info.name + "_reference.png", info.reference);
+        info.refSeconds = a.seconds + b.seconds;
+        oas::image::writePngPreview(imgDir + "/" + info.name + "_reference.png", reference);
 
         // Every (sampler, spp) of the scene is one point of a shared render-time budget
         // (SceneStudyOptions, budgetedMeans): minTrials renders each, then the extra renders go
@@ -360,6 +581,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         ao.nMax = std::max(o.minTrials, o.maxTrials);
         ao.relTarget = o.relSeTarget;
         std::uint32_t lastSampler = ~0u;
+        const size_t firstOfScene = all.size();
         budgetedMeans(
             points.size(),
             [&](std::size_t p, std::uint32_t t) {
@@ -380,44 +602,100 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 m.spp = pt.spp;
                 m.trial = t;
                 m.seconds = r.seconds;
-                m.relMseRaw = oas::image::compare(r.image, info.reference).relMse;
-                m.relMseCropRaw = oas::image::compare(r.image, info.reference, info.crop).relMse;
+                m.relMseRaw = oas::image::compare(r.image, reference).relMse;
+                m.relMseCropRaw = oas::image::compare(r.image, reference, info.crop).relMse;
                 m.relMse = m.relMseRaw - info.refErr;
                 m.relMseCrop = m.relMseCropRaw - info.refErrCrop;
-                m.relMseWorst = worstPixelsContribution(pixelRelErrors(r.image, info.reference));
+                m.relMseWorst = worstPixelsContribution(pixelRelErrors(r.image, reference));
                 all.push_back(m);
-                if (t == 0) info.images[{s.label, pt.spp}] = r.image;
+                if (t == 0) images[{s.label, pt.spp}] = r.image;
                 return CostedDraw{{m.relMse, m.relMseCrop}, r.seconds};
             },
             2, ao, o.extraSecondsPerScene);
         std::fprintf(stderr, "  %s done (%.0f s so far)\n", info.name.c_str(),
                      std::chrono::duration<double>(Clock::now() - t0).count());
-        infos.push_back(std::move(info));
+        info.runSeconds = std::chrono::duration<double>(Clock::now() - sceneStart).count();
+
+        // Equal-time error images: for each sampler, the trial-0 render whose time is nearest (in
+        // log) to the budget T1, the time Sobol took at 128 spp (as in the section's equal-time table).
+        const std::vector<SceneMeasurement> mine(all.begin() + firstOfScene, all.end());
+        const auto curves = curvesOf(mine, o.relSeTarget);
+        double budget = NAN;
+        for (const auto& c : curves)
+            if (c.sampler == "Sobol")
+                for (size_t i = 0; i < c.spp.size(); ++i)
+                    if (c.spp[i] == 128) budget = c.seconds[i];
+        for (const auto& c : curves) {
+            if (!std::isfinite(budget) || c.spp.empty()) break;
+            size_t best = 0;
+            for (size_t i = 1; i < c.spp.size(); ++i)
+                if (std::abs(std::log(c.seconds[i] / budget)) < std::abs(std::log(c.seconds[best] / budget))) best = i;
+            const std::uint32_t spp = std::uint32_t(c.spp[best]);
+            const auto it = images.find({c.sampler, spp});
+            if (it == images.end()) continue;
+            const std::string file = info.name + "_" + slug(c.sampler) + "_error.png";
+            oas::image::writePngPreview(imgDir + "/" + file, oas::image::falseColourError(it->second, reference));
+            oas::image::writePngPreview(imgDir + "/" + info.name + "_" + slug(c.sampler) + ".png", it->second);
+            eq.add({info.name, c.sampler, std::to_string(spp), fmtG(c.seconds[best]), fmtG(budget),
+                    fmtG(oas::image::compare(it->second, reference).relMse - info.refErr), file});
+        }
+        records.push_back(std::move(info));
     }
 
-    CsvTable csv({"scene", "sampler", "pattern", "spp", "trial", "seconds", "rel_mse", "rel_mse_crop", "rel_mse_raw",
-                  "rel_mse_crop_raw", "rel_mse_worst"});
-    for (const auto& m : all)
-        csv.add({m.scene, m.sampler, m.pattern, std::to_string(m.spp), std::to_string(m.trial), fmtG(m.seconds),
-                 fmtG(m.relMse), fmtG(m.relMseCrop), fmtG(m.relMseRaw), fmtG(m.relMseCropRaw), fmtG(m.relMseWorst)});
-    csv.write(o.outDir + "/scenes.csv");
-    refCsv.write(o.outDir + "/scene_references.csv");
+    // Merge with the scenes measured before (other shards), write the data, and build the section
+    // from what was written: a section assembled later from the files alone is the same.
+    const std::string refPath = o.outDir + "/scene_references.csv", csvPath = o.outDir + "/scenes.csv",
+                      eqPath = o.outDir + "/scene_equal_time.csv";
+    std::vector<SceneRecord> keptRecords;
+    std::vector<SceneMeasurement> keptMeasurements;
+    std::vector<std::vector<std::string>> keptEq;
+    if (fs::exists(refPath) && fs::exists(csvPath)) {
+        try {
+            keptRecords = readSceneRecords(refPath);
+            keptMeasurements = readSceneMeasurements(csvPath);
+            if (fs::exists(eqPath)) {
+                const CsvRows old = readCsv(eqPath);
+                for (const auto& row : old.rows) {
+                    std::vector<std::string> cells;
+                    for (const auto& name : kEqualTimeColumns) cells.push_back(row[old.column(name, eqPath)]);
+                    keptEq.push_back(cells);
+                }
+            }
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "note: the earlier scene data are not merged (%s); the section has only the scenes run now\n",
+                         e.what());
+            keptRecords.clear();
+            keptMeasurements.clear();
+            keptEq.clear();
+        }
+    }
+    const auto mergedRecords = mergeSceneRecords(keptRecords, records);
+    auto isMerged = [&](const std::string& scene) {
+        return std::any_of(mergedRecords.begin(), mergedRecords.end(), [&](const SceneRecord& r) { return r.name == scene; });
+    };
+    auto isFresh = [&](const std::string& scene) {
+        return std::any_of(records.begin(), records.end(), [&](const SceneRecord& r) { return r.name == scene; });
+    };
+    std::vector<SceneMeasurement> mergedMeasurements;
+    for (auto& m : mergeSceneMeasurements(keptMeasurements, all))
+        if (isMerged(m.scene)) mergedMeasurements.push_back(std::move(m));  // no rows without a record
+    CsvTable mergedEq(kEqualTimeColumns);
+    for (const auto& row : keptEq)
+        if (isMerged(row[0]) && !isFresh(row[0])) mergedEq.add(row);
+    for (const auto& row : parseCsv(eq.str(), "equal-time rows").rows) mergedEq.add(row);
+    writeSceneMeasurements(csvPath, mergedMeasurements);
+    writeSceneRecords(refPath, mergedRecords);
+    mergedEq.write(eqPath);
+    const auto writtenRecords = readSceneRecords(refPath);
+    const auto writtenMeasurements = readSceneMeasurements(csvPath);
+    writeCurves(o.outDir + "/scene_curves.csv", curvesOfRecords(writtenRecords, writtenMeasurements));
+    return sceneSection(writtenRecords, writtenMeasurements, samplers);
+}
 
-    const auto curves = curvesOf(all, o.relSeTarget);
-    // Every point with its n and standard errors; "capped" = the s.e. target was not reached (full
-    // image or crop) before maxTrials. plot.py draws the error bars from the *_se columns.
-    CsvTable curveCsv({"scene", "sampler", "spp", "seconds", "rel_mse", "rel_mse_crop", "n", "rel_mse_se",
-                       "rel_mse_crop_se", "capped", "rel_mse_without_worst", "rel_mse_without_worst_se",
-                       "rel_mse_worst", "rel_mse_worst_se"});
-    for (const auto& c : curves)
-        for (size_t i = 0; i < c.spp.size(); ++i)
-            curveCsv.add({c.scene, c.sampler, fmtG(c.spp[i]), fmtG(c.seconds[i]), fmtG(c.relMse[i]),
-                          fmtG(c.relMseCrop[i]), std::to_string(c.relMseE[i].n), fmtG(c.relMseE[i].se),
-                          fmtG(c.relMseCropE[i].se), c.relMseE[i].capped || c.relMseCropE[i].capped ? "1" : "0",
-                          fmtG(c.relMseRestE[i].mean), fmtG(c.relMseRestE[i].se), fmtG(c.worstE[i].mean),
-                          fmtG(c.worstE[i].se)});
-    curveCsv.write(o.outDir + "/scene_curves.csv");
-
+std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vector<SceneMeasurement>& measurements,
+                         const std::vector<SamplerSpec>& samplers)
+{
+    const auto curves = curvesOfRecords(infos, measurements);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     const Estimate none{nan, nan, 0, false};
     auto curveOf = [&](const std::string& scene, const std::string& sampler) -> const SceneCurve* {
@@ -467,40 +745,57 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         }
 
     std::ostringstream md;
-    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    // How the scenes were run: one row per scene (shards may differ in settings, device and date).
+    bool allFull = !infos.empty();
+    std::set<std::string> devices;
+    for (const auto& info : infos) {
+        allFull = allFull && info.modeLabel == "full mode";
+        devices.insert(info.device);
+    }
+    const bool allLavapipe = std::all_of(devices.begin(), devices.end(), [](const std::string& d) {
+        return d.find("llvmpipe") != std::string::npos;
+    });
     md << "## Scenes: relative MSE versus samples and versus time\n\n"
-       << "- Device: " << deviceName << " (the CI machine's Vulkan; every figure below is lavapipe wall-clock time)\n"
-       << "- Command: `build/" << o.command << "`" << " (" << o.modeLabel << ")" << "; scene part run time "
-       << fmtF(seconds, 0) << " s\n"
-       << "- Images " << o.width << " px wide; spp from " << o.minSpp << " to " << o.maxSpp
-       << (o.paperHighSpp > o.maxSpp ? ", and for the 7D and 9D scenes also each sampler's valid count nearest " +
-                                           std::to_string(o.paperHighSpp) + " (the paper's 3969/4096)"
-                                     : std::string())
-       << "; reference: Owen-scrambled Sobol at 16× the scene's largest count (table below) as two independent "
-          "halves.\n"
+       << "- Runs: each scene's device, machine, date, command and settings are in the table below. Scenes can be "
+          "measured in separate runs (`oas-study --parts scenes --scene NAME` replaces only that scene's rows in "
+          "the data files and reassembles this section from them), so they may differ.\n"
+       << "- Mode: " << (allFull ? "full mode for every scene" : "**not every scene is from the full mode** (table)")
+       << "; time is wall-clock time on the scene's device"
+       << (allLavapipe ? " (lavapipe, the CI machine's Vulkan, for every scene)" : " (not the same device for every scene: compare times within a scene only)")
+       << ".\n"
        << "- Error bars: every relMSE is the mean over n independent renders (each its own seed) ± its standard "
-          "error s.e. = sd/√n (sd with n − 1). n is chosen per point: at least " << o.minTrials
-       << " renders; then a budget of " << fmtG(o.extraSecondsPerScene)
-       << " s of renders per scene is shared by the scene's points, each further render going to the point "
-          "whose relative s.e. it shrinks most per second (relative s.e. ÷ (n × seconds per render)) among the "
-          "points whose full-image or crop s.e. is above "
-       << fmtF(100 * o.relSeTarget, 0) << "% of the mean, at most " << o.maxTrials
-       << " renders per point. Numbers still above the target are marked \"cap\" with the s.e. reached. "
-       << cappedPoints << " of " << points       << " points hit the cap. Stopping on the s.e. biases it slightly low (the minimum n limits this). "
+          "error s.e. = sd/√n (sd with n − 1). n is chosen per point: at least the scene's minimum number of "
+          "renders; then the scene's budget of extra render seconds is shared by its points, each further render "
+          "going to the point whose relative s.e. it shrinks most per second (relative s.e. ÷ (n × seconds per "
+          "render)) among the points whose full-image or crop s.e. is above the target fraction of the mean, up to "
+          "the scene's maximum renders per point. Numbers still above the target are marked \"cap\" with the s.e. "
+          "reached. "
+       << cappedPoints << " of " << points << " points hit the cap. Stopping on the s.e. biases it slightly low (the minimum n limits this). "
           "Ratios carry a first-order (delta-method) s.e. for independent numbers (a sampler's ratio to "
           "itself is 1 ± its own relative s.e.), values read off curves (equal time, time to target) "
           "the s.e. of the interpolated log error (timing noise not included).\n"
        << "- Verdicts (\"lower\", \"higher\", goals, rankings) are stated only where two numbers differ by more "
           "than twice their combined s.e., 2·√(s.e.₁² + s.e.₂²); otherwise the table says **tie**.\n"
        << "- relMSE = mean over pixels and R, G, B of (I − R)² / (R² + 0.01) (Rousselle et al.; the paper's metric), "
-          "for the full image and for a crop; the reference's own relMSE, estimated from its two halves, is "
-          "subtracted (table below).\n"
+          "for the full image and for a crop; the reference (Owen-scrambled Sobol at 16× the scene's largest count, "
+          "as two independent halves) has its own relMSE, estimated from its two halves, subtracted (table below).\n"
        << "- Time: wall-clock of the render's dispatches, median over the renders of a point, pipeline build "
           "excluded. The machine is shared, so times carry a few per cent of noise.\n"
        << "- Data: [`scenes.csv`](study/scenes.csv) (every render), [`scene_curves.csv`](study/scene_curves.csv) "
-          "(per point: mean, s.e., n, capped), [`scene_references.csv`](study/scene_references.csv); figures "
+          "(per point: mean, s.e., n, capped), [`scene_references.csv`](study/scene_references.csv) (per scene: "
+          "reference, settings, device); figures "
           "`study/scene_error_vs_spp.png`, `study/scene_error_vs_time.png` (± 1 s.e. bars), "
           "`study/scene_equal_time.png`.\n\n";
+
+    md << "| scene | device | machine, date | command (mode) | image | spp | renders per point | extra render s | s.e. target | scene run time |\n"
+          "|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const auto& info : infos)
+        md << "| " << info.name << " | " << info.device << " | " << info.machine << ", " << info.date << " | `build/"
+           << info.command << "` (" << info.modeLabel << ") | " << info.width << " px wide | " << info.minSpp << "–"
+           << info.maxSpp << (info.paperHighSpp ? " and the count nearest " + std::to_string(info.paperHighSpp) : std::string())
+           << " | " << info.minTrials << " to " << info.maxTrials << " | " << fmtG(info.extraSeconds) << " | "
+           << fmtF(100 * info.relSeTarget, 0) << "% | " << fmtF(info.runSeconds, 0) << " s |\n";
+    md << "\n";
 
     md << "| scene | size | integrand dims | crop | reference spp | reference relMSE (full / crop) | smallest measured relMSE (full / crop) |\n"
           "|---|---|---|---|---|---|---|\n";
@@ -511,7 +806,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 for (size_t i = 0; i < c.spp.size(); ++i)
                     minFull = std::min(minFull, c.relMse[i]), minCrop = std::min(minCrop, c.relMseCrop[i]);
         md << "| " << info.name << " | " << info.width << "×" << info.height << " | " << info.dims << " | "
-           << info.crop.w << "×" << info.crop.h << " at (" << info.crop.x << ", " << info.crop.y << "): " << info.cropWhat
+           << info.crop.w << "×" << info.crop.h << " at (" << info.crop.x << ", " << info.crop.y << "): " << cropWhatOf(info.name)
            << " | " << info.referenceSpp << " | " << sci(info.refErr) << " / " << sci(info.refErrCrop) << " | " << sci(minFull) << " / " << sci(minCrop)
            << " |\n";
     }
@@ -520,7 +815,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
 
     // One row of the tables at a paper count: the sampler's estimate at ladder count n, against
     // Random at the same count and against CMJ2D-pad's estimate `cmjRef`.
-    auto countRow = [&](const SceneInfo& info, const SamplerSpec& s, const SceneCurve& c, double n,
+    auto countRow = [&](const SceneRecord& info, const SamplerSpec& s, const SceneCurve& c, double n,
                         const SceneCurve* rnd, const Estimate& cmjRef) {
         const Estimate e = estAt(c, n, 0), ec = estAt(c, n, 1);
         const Estimate r = randomAt(rnd, n);
@@ -625,10 +920,11 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     md << (goal7dText.empty() ? " (cornell7d not studied)" : " — " + goal7dText) << ".\n\n";
 
     // --- At the paper's high count (3969/4096 spp), the 7D and 9D scenes --------------------
-    if (o.paperHighSpp > o.maxSpp) {
-        const double high = o.paperHighSpp;
-        md << "### At the paper's high count (about " << o.paperHighSpp << " spp): the 7D and 9D scenes\n\n"
-           << "Each sampler at its valid count nearest " << o.paperHighSpp << " (Bose 64² = 4096, the baselines "
+    std::uint32_t paperHigh = 0;
+    for (const auto& info : infos) paperHigh = std::max(paperHigh, info.paperHighSpp);
+    if (paperHigh > 0) {
+        md << "### At the paper's high count (about " << paperHigh << " spp): the 7D and 9D scenes\n\n"
+           << "Each sampler at its valid count nearest " << paperHigh << " (Bose 64² = 4096, the baselines "
               "4096; the paper's Barcelona figures are at 3969/4096, its 7D and 9D tables at 121/128 only, so there "
               "is no paper number to set beside these). Ratios to Random at the same count and to CMJ2D-pad at the "
               "same ladder point, each with its verdict.\n\n"
@@ -637,7 +933,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         for (const auto& info : infos) {
             const SceneCurve* rnd = curveOf(info.name, "Random");
             const SceneCurve* cmj = curveOf(info.name, "CMJ2D-pad");
-            if (!rnd || info.largestSpp < o.paperHighSpp / 2) continue;  // not a paper-count scene
+            if (!rnd || info.paperHighSpp == 0) continue;  // not a paper-count scene
+            const double high = info.paperHighSpp;
             const Estimate cmjHigh = cmj ? estAt(*cmj, nearest(cmj->spp, high)) : none;
             for (const auto& s : samplers) {
                 const SceneCurve* c = curveOf(info.name, s.label);
@@ -696,7 +993,6 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
           "interpolated points' n.\n\n"
        << "| scene | sampler | relMSE @ T₁ | ÷ Sobol | vs Sobol | relMSE @ T₂ | ÷ Sobol | vs Sobol |\n"
           "|---|---|---|---|---|---|---|---|\n";
-    std::map<std::string, double> budgetOf;  // scene -> T1 (for the images)
     std::ostringstream answer;                // the short answer at the top of the section
     for (const auto& info : infos) {
         const SceneCurve* sob = curveOf(info.name, "Sobol");
@@ -707,7 +1003,6 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         for (const auto& c : curves)  // the largest budget every sampler's curve reaches
             if (c.scene == info.name && !c.seconds.empty())
                 budgets[1] = std::min(budgets[1], *std::max_element(c.seconds.begin(), c.seconds.end()));
-        budgetOf[info.name] = budgets[0];
         md << "| " << info.name << " | *budgets* | T₁ = " << fmtF(budgets[0] * 1000, 0) << " ms | | | T₂ = "
            << fmtF(budgets[1] * 1000, 0) << " ms | | |\n";
         Estimate sobAt[2], bestOa[2] = {none, none};
@@ -786,8 +1081,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
        << scenesOa[1][1] << " / " << scenesOa[1][2] << " at T₂.\n\n";
 
     md << "### Time to reach a target error\n\n"
-       << "Targets per scene: the relMSE Random reaches at 128 spp and at " << o.maxSpp
-       << " spp (means; their s.e. enter the times' s.e.). Time read off each curve (first crossing of the means, "
+       << "Targets per scene: the relMSE Random reaches at 128 spp and at the largest count of the scene's ladder "
+          "(the top of its spp range in the first table; means; their s.e. enter the times' s.e.). Time read off each curve (first crossing of the means, "
           "log-log interpolation) ± a delta-method s.e.; ≤ marks a sampler already below the target at its "
           "smallest count (a bound, no s.e.), > one that does not reach it within the measured range.\n\n"
        << "| scene | sampler | time to target 1 (ms) | ÷ Random | vs Random | time to target 2 (ms) | ÷ Random | vs Random |\n"
@@ -795,7 +1090,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     for (const auto& info : infos) {
         const SceneCurve* rnd = curveOf(info.name, "Random");
         if (!rnd) continue;
-        const Estimate targets[2] = {estAt(*rnd, 128), estAt(*rnd, o.maxSpp)};
+        const Estimate targets[2] = {estAt(*rnd, 128), estAt(*rnd, info.maxSpp)};
         CrossingEstimate rndTime[2];
         for (int b = 0; b < 2; ++b) rndTime[b] = firstCrossing(rnd->seconds, rnd->relMseE, targets[b]);
         md << "| " << info.name << " | *targets* | relMSE " << fmtEstimate(targets[0]) << " | | | relMSE "
@@ -850,30 +1145,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         md << " |\n";
     }
 
-    // --- Equal-time error images ---------------------------------------------------------------
-    // For each sampler, the trial-0 render whose time is nearest (in log) to the budget T1.
-    CsvTable eq({"scene", "sampler", "spp", "seconds", "budget_seconds", "rel_mse", "image"});
-    for (const auto& info : infos) {
-        const double budget = budgetOf.count(info.name) ? budgetOf[info.name] : NAN;
-        if (!std::isfinite(budget)) continue;
-        for (const auto& s : samplers) {
-            const SceneCurve* c = curveOf(info.name, s.label);
-            if (!c) continue;
-            size_t best = 0;
-            for (size_t i = 1; i < c->spp.size(); ++i)
-                if (std::abs(std::log(c->seconds[i] / budget)) < std::abs(std::log(c->seconds[best] / budget))) best = i;
-            const std::uint32_t spp = std::uint32_t(c->spp[best]);
-            const auto it = info.images.find({s.label, spp});
-            if (it == info.images.end()) continue;
-            const std::string file = info.name + "_" + slug(s.label) + "_error.png";
-            oas::image::writePngPreview(imgDir + "/" + file, oas::image::falseColourError(it->second, info.reference));
-            const std::string beauty = info.name + "_" + slug(s.label) + ".png";
-            oas::image::writePngPreview(imgDir + "/" + beauty, it->second);
-            eq.add({info.name, s.label, std::to_string(spp), fmtG(c->seconds[best]), fmtG(budget),
-                    fmtG(oas::image::compare(it->second, info.reference).relMse - info.refErr), file});
-        }
-    }
-    eq.write(o.outDir + "/scene_equal_time.csv");
+    // --- Equal-time error images (written when each scene was measured) -----------------------
     md << "\n### Error images at equal time\n\n"
        << "Per-pixel relative squared error in false colour (log scale, 1e-5 to 10, dark to bright; the ramp of "
           "`oas-diff`), for each sampler's render whose time is nearest the budget T₁ (its spp and time are in "
@@ -881,7 +1153,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
        << "![equal-time error images](study/scene_equal_time.png)\n\n";
     // The short answer goes right below the section's list of settings.
     std::string text = md.str();
-    const size_t at = text.find("\n| scene | size |");
+    const size_t at = text.find("\n| scene | device |");
     return text.substr(0, at + 1) + head.str() + text.substr(at + 1);
 }
 

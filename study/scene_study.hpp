@@ -53,6 +53,24 @@ struct SceneStudyOptions {
     /// How the section names its settings: "quick mode", "full mode", or "reduced settings" when
     /// the command changed the full mode's scene options (the command line is printed too).
     std::string modeLabel = "full mode";
+    std::string date, machine;  ///< when and on which CPU the run happened (for the section's table)
+};
+
+/// One scene's run, a row of scene_references.csv: its size, crop and reference, and the settings,
+/// device and date it was measured with. The section is assembled from these rows and scenes.csv
+/// alone, so scenes measured in separate runs (shards: `--scene X`, other machines, other days)
+/// merge into one section, each saying how it was made.
+struct SceneRecord {
+    std::string name;
+    std::uint32_t width = 0, height = 0, dims = 0;
+    oas::image::Crop crop;
+    std::string referenceSampler = "sobol";
+    std::uint32_t referenceSpp = 0, largestSpp = 0;
+    double refErr = 0, refErrCrop = 0, refSeconds = 0;
+    // How it was measured.
+    std::string device, machine, date, command, modeLabel;
+    std::uint32_t minSpp = 0, maxSpp = 0, paperHighSpp = 0, minTrials = 0, maxTrials = 0;
+    double relSeTarget = 0.1, extraSeconds = 0, runSeconds = 0;  ///< runSeconds: the scene's share of its run
 };
 
 /// One render's measurement.
@@ -92,9 +110,32 @@ struct SceneCurve {
 /// marks each estimate whose s.e. is above relSeTarget × mean (the adaptive loop hit its cap).
 std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements, double relSeTarget = 0.1);
 
-/// Runs the scene study on the Vulkan device and writes outDir/scenes.csv, scene_curves.csv,
-/// scene_tables.md (the markdown section that STUDY.md includes), reference and equal-time error
-/// images under outDir/scenes/. Returns the markdown section.
+/// scene_references.csv and scenes.csv: write, and read back (by column name; a file without one of
+/// the columns, or with a bad number, throws std::runtime_error naming the file, row and column).
+void writeSceneRecords(const std::string& path, const std::vector<SceneRecord>& records);
+std::vector<SceneRecord> readSceneRecords(const std::string& path);
+void writeSceneMeasurements(const std::string& path, const std::vector<SceneMeasurement>& measurements);
+std::vector<SceneMeasurement> readSceneMeasurements(const std::string& path);
+
+/// Shards: `kept` without the rows of the scenes in `fresh`, then `fresh`; the result is in
+/// studyScenes() order (other names last, in order of appearance), each scene's rows in their order.
+std::vector<SceneRecord> mergeSceneRecords(const std::vector<SceneRecord>& kept, const std::vector<SceneRecord>& fresh);
+std::vector<SceneMeasurement> mergeSceneMeasurements(const std::vector<SceneMeasurement>& kept,
+                                                     const std::vector<SceneMeasurement>& fresh);
+
+/// The markdown section (STUDY.md's scene part) from the data alone: every table, goal and verdict
+/// from `measurements` of the scenes in `records` (other scenes' rows are ignored), for `samplers`.
+std::string sceneSection(const std::vector<SceneRecord>& records, const std::vector<SceneMeasurement>& measurements,
+                         const std::vector<SamplerSpec>& samplers);
+
+/// The section from outDir's scene_references.csv and scenes.csv (`oas-study --parts none`);
+/// empty when outDir has no scene data.
+std::string sceneSectionFromFiles(const std::string& outDir, const std::vector<SamplerSpec>& samplers);
+
+/// Runs the scene study on the Vulkan device for the chosen scenes and merges them into outDir's
+/// scenes.csv, scene_references.csv and scene_equal_time.csv (the rows of scenes not run are kept:
+/// see mergeSceneRecords), rewrites scene_curves.csv from the merged data, and writes reference
+/// and equal-time images under outDir/scenes/. Returns sceneSection() of the merged data.
 std::string runSceneStudy(const SceneStudyOptions& options, const std::vector<SamplerSpec>& samplers,
                           oas::vk::Context& context);
 

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 
 namespace oas::study {
@@ -121,6 +122,65 @@ void CsvTable::write(const std::string& path) const
         if (!f) throw std::runtime_error("write failed: " + tmp);
     }
     std::filesystem::rename(tmp, path);
+}
+
+size_t CsvRows::column(const std::string& name, const std::string& file) const
+{
+    for (size_t i = 0; i < header.size(); ++i)
+        if (header[i] == name) return i;
+    throw std::runtime_error(file + ": no column \"" + name + "\"");
+}
+
+CsvRows parseCsv(const std::string& text, const std::string& file)
+{
+    CsvRows out;
+    std::vector<std::string> row;
+    std::string cell;
+    bool quoted = false, any = false;
+    size_t line = 1, rowLine = 1;
+    auto endRow = [&] {
+        row.push_back(cell);
+        cell.clear();
+        const bool blank = row.size() == 1 && row[0].empty() && !any;  // an empty line
+        if (!blank && out.header.empty()) {
+            out.header = row;
+        } else if (!blank) {
+            if (row.size() != out.header.size())
+                throw std::runtime_error(file + ":" + std::to_string(rowLine) + ": " + std::to_string(row.size()) +
+                                         " cells, the header has " + std::to_string(out.header.size()));
+            out.rows.push_back(row);
+        }
+        row.clear();
+        any = false;
+        rowLine = line;
+    };
+    for (size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (quoted) {
+            if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') cell += '"', ++i;
+            else if (c == '"') quoted = false;
+            else {
+                if (c == '\n') ++line;
+                cell += c;
+            }
+        } else if (c == '"') quoted = any = true;
+        else if (c == ',') row.push_back(cell), cell.clear(), any = true;
+        else if (c == '\r') continue;
+        else if (c == '\n') ++line, endRow();
+        else cell += c, any = true;
+    }
+    if (quoted) throw std::runtime_error(file + ":" + std::to_string(rowLine) + ": unterminated quoted cell");
+    if (any || !cell.empty() || !row.empty()) endRow();
+    return out;
+}
+
+CsvRows readCsv(const std::string& path)
+{
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw std::runtime_error("cannot read " + path);
+    std::ostringstream text;
+    text << f.rdbuf();
+    return parseCsv(text.str(), path);
 }
 
 std::string fmtG(double v, int digits)

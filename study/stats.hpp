@@ -149,6 +149,20 @@ private:
     std::vector<std::vector<std::string>> rows_;
 };
 
+/// A CSV file read back (RFC 4180 quoting, as CsvTable writes it): the header and the rows, each a
+/// map from column name to cell.
+struct CsvRows {
+    std::vector<std::string> header;
+    std::vector<std::vector<std::string>> rows;
+    /// Column index of `name`; throws std::runtime_error naming `file` and the column if absent.
+    size_t column(const std::string& name, const std::string& file) const;
+};
+/// Parses CSV text; a row whose width differs from the header's, or an unterminated quote, throws
+/// std::runtime_error naming `file` and the line.
+CsvRows parseCsv(const std::string& text, const std::string& file);
+/// parseCsv of a file; throws std::runtime_error if it cannot be read.
+CsvRows readCsv(const std::string& path);
+
 /// "%.*g" formatting (round-trippable with digits = 17).
 std::string fmtG(double v, int digits = 6);
 /// Fixed decimals.

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "cost_study.hpp"
 #include "gpu_test_support.hpp"
@@ -162,6 +163,187 @@ TEST(StudyCurves, WorstPixelsContribution)
     EXPECT_NEAR(mean, oas::image::compare(img, ref).relMse, 1e-12);
 }
 
+namespace {
+
+SceneRecord recordOf(const std::string& name, const std::string& mode)
+{
+    SceneRecord r;
+    r.name = name;
+    r.width = 32;
+    r.height = 24;
+    r.dims = 7;
+    r.crop = {8, 8, 16, 10};
+    r.referenceSpp = 4096;
+    r.largestSpp = 256;
+    r.refErr = 1.25e-5;
+    r.refErrCrop = 2.5e-5;
+    r.refSeconds = 10.5;
+    r.device = "llvmpipe (test)";
+    r.machine = "test CPU, with a comma";
+    r.date = "2026-12-01 12:00 UTC";
+    r.command = "oas-study --parts scenes --scene " + name;
+    r.modeLabel = mode;
+    r.minSpp = 16;
+    r.maxSpp = 256;
+    r.paperHighSpp = name == "interior_deep" ? 0 : 4096;
+    r.minTrials = 3;
+    r.maxTrials = 16;
+    r.relSeTarget = 0.1;
+    r.extraSeconds = 120;
+    r.runSeconds = 321;
+    return r;
+}
+
+/// Renders of one sampler at two counts, errors ∝ 1/spp with a little spread between trials.
+std::vector<SceneMeasurement> measurementsOf(const std::string& scene, const std::string& sampler, double scale)
+{
+    std::vector<SceneMeasurement> out;
+    for (std::uint32_t spp : {16u, 128u})
+        for (std::uint32_t t = 0; t < 3; ++t) {
+            SceneMeasurement m;
+            m.scene = scene;
+            m.sampler = sampler;
+            m.pattern = sampler + " N=" + std::to_string(spp) + ", quoted \"part\"";
+            m.spp = spp;
+            m.trial = t;
+            m.seconds = 1e-3 * spp;
+            m.relMse = scale / spp * (1 + 0.05 * t);
+            m.relMseCrop = 2 * m.relMse;
+            m.relMseRaw = m.relMse + 1e-6;
+            m.relMseCropRaw = m.relMseCrop + 1e-6;
+            m.relMseWorst = 0.25 * m.relMse;
+            out.push_back(m);
+        }
+    return out;
+}
+
+}  // namespace
+
+// Shards are merged from the files, so a record and a measurement must come back field for field.
+TEST(StudyShards, RecordsAndMeasurementsRoundTripThroughTheirFiles)
+{
+    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_scene_records";
+    std::filesystem::create_directories(dir);
+    const std::vector<SceneRecord> records = {recordOf("cornell7d", "full mode"), recordOf("interior_deep", "quick mode")};
+    writeSceneRecords((dir / "refs.csv").string(), records);
+    const auto back = readSceneRecords((dir / "refs.csv").string());
+    ASSERT_EQ(back.size(), 2u);
+    for (size_t i = 0; i < 2; ++i) {
+        const SceneRecord &a = records[i], &b = back[i];
+        EXPECT_EQ(a.name, b.name);
+        EXPECT_EQ(std::tie(a.width, a.height, a.dims, a.referenceSpp, a.largestSpp, a.minSpp, a.maxSpp, a.paperHighSpp,
+                           a.minTrials, a.maxTrials),
+                  std::tie(b.width, b.height, b.dims, b.referenceSpp, b.largestSpp, b.minSpp, b.maxSpp, b.paperHighSpp,
+                           b.minTrials, b.maxTrials));
+        EXPECT_EQ(std::tie(a.crop.x, a.crop.y, a.crop.w, a.crop.h), std::tie(b.crop.x, b.crop.y, b.crop.w, b.crop.h));
+        EXPECT_EQ(std::tie(a.device, a.machine, a.date, a.command, a.modeLabel, a.referenceSampler),
+                  std::tie(b.device, b.machine, b.date, b.command, b.modeLabel, b.referenceSampler));
+        EXPECT_DOUBLE_EQ(a.refErr, b.refErr);
+        EXPECT_DOUBLE_EQ(a.refErrCrop, b.refErrCrop);
+        EXPECT_DOUBLE_EQ(a.relSeTarget, b.relSeTarget);
+        EXPECT_DOUBLE_EQ(a.extraSeconds, b.extraSeconds);
+        EXPECT_DOUBLE_EQ(a.runSeconds, b.runSeconds);
+    }
+    const auto ms = measurementsOf("cornell7d", "Random", 1e-2);
+    writeSceneMeasurements((dir / "m.csv").string(), ms);
+    const auto msBack = readSceneMeasurements((dir / "m.csv").string());
+    ASSERT_EQ(msBack.size(), ms.size());
+    for (size_t i = 0; i < ms.size(); ++i) {
+        EXPECT_EQ(msBack[i].pattern, ms[i].pattern);
+        EXPECT_EQ(msBack[i].spp, ms[i].spp);
+        EXPECT_EQ(msBack[i].trial, ms[i].trial);
+        EXPECT_NEAR(msBack[i].relMse, ms[i].relMse, 1e-5 * ms[i].relMse);  // 6 significant digits
+        EXPECT_NEAR(msBack[i].relMseWorst, ms[i].relMseWorst, 1e-5 * ms[i].relMseWorst);
+    }
+}
+
+TEST(StudyShards, BadDataFilesNameTheFileRowAndColumn)
+{
+    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_scene_bad";
+    std::filesystem::create_directories(dir);
+    auto messageOf = [&](const std::string& text, bool records) {
+        const std::string path = (dir / "x.csv").string();
+        std::ofstream(path) << text;
+        try {
+            if (records) readSceneRecords(path);
+            else readSceneMeasurements(path);
+        } catch (const std::runtime_error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const std::string path = (dir / "x.csv").string();
+    // The scene_references.csv of before shards had no settings columns: it is refused, by name.
+    EXPECT_EQ(messageOf("scene,width,height,dims,reference_sampler,reference_spp,ref_rel_mse,ref_rel_mse_crop,seconds,"
+                        "crop_x,crop_y,crop_w,crop_h\ncornell7d,32,32,7,sobol,4096,1e-5,1e-5,10,16,16,16,16\n",
+                        true),
+              path + ": no column \"largest_spp\"");
+    const std::string header = "scene,sampler,pattern,spp,trial,seconds,rel_mse,rel_mse_crop,rel_mse_raw,rel_mse_crop_raw,"
+                               "rel_mse_worst\n";
+    EXPECT_EQ(messageOf(header + "c,Random,p,16,0,0.1,1e-3,1e-3,1e-3,1e-3,abc\n", false),
+              path + ": row 1, column \"rel_mse_worst\": \"abc\" is not a number");
+    EXPECT_EQ(messageOf(header + "c,Random,p,16,0,0.1,1e-3,1e-3,1e-3,1e-3,1\nc,Random,p,-3,0,0.1,1,1,1,1,1\n", false),
+              path + ": row 2, column \"spp\": -3 is not a count in [0, 2^32 - 1]");
+    EXPECT_EQ(messageOf(header + "c,Random,p,0,0,0.1,1,1,1,1,1\n", false),
+              path + ": row 1: spp must be >= 1 and seconds >= 0");
+    // A crop outside the image, and a scene twice.
+    auto bad = recordOf("cornell7d", "full mode");
+    bad.crop.x = 30;
+    writeSceneRecords(path, {bad});
+    EXPECT_THROW(readSceneRecords(path), std::runtime_error);
+    writeSceneRecords(path, {recordOf("cornell7d", "full mode"), recordOf("cornell7d", "quick mode")});
+    EXPECT_EQ(messageOf(lines(path)[0] + "\n" + lines(path)[1] + "\n" + lines(path)[2] + "\n", true),
+              path + ": scene \"cornell7d\" appears twice");
+}
+
+TEST(StudyShards, AShardReplacesOnlyItsScenesAndKeepsTheStudyOrder)
+{
+    auto a = recordOf("cornell7d", "quick mode"), b = recordOf("interior_deep", "quick mode");
+    auto a2 = recordOf("cornell7d", "full mode"), c = recordOf("blue_spheres9d", "full mode");
+    const auto merged = mergeSceneRecords({a, b}, {c, a2});
+    ASSERT_EQ(merged.size(), 3u);
+    EXPECT_EQ(merged[0].name, "cornell7d");
+    EXPECT_EQ(merged[0].modeLabel, "full mode");  // the fresh run's record, not the kept one
+    EXPECT_EQ(merged[1].name, "blue_spheres9d");
+    EXPECT_EQ(merged[2].name, "interior_deep");
+    EXPECT_EQ(merged[2].modeLabel, "quick mode");
+
+    auto kept = measurementsOf("cornell7d", "Random", 1e-2);
+    for (const auto& m : measurementsOf("interior_deep", "Random", 3e-2)) kept.push_back(m);
+    const auto fresh = measurementsOf("cornell7d", "Sobol", 5e-3);
+    const auto mm = mergeSceneMeasurements(kept, fresh);
+    ASSERT_EQ(mm.size(), 12u);  // cornell7d: only the fresh Sobol rows; interior_deep: kept
+    for (size_t i = 0; i < 6; ++i) EXPECT_EQ(mm[i].sampler, "Sobol");
+    for (size_t i = 6; i < 12; ++i) EXPECT_EQ(mm[i].scene, "interior_deep");
+    EXPECT_EQ(mm[6].trial, 0u);  // rows keep their order within a scene
+    EXPECT_EQ(mm[7].trial, 1u);
+}
+
+TEST(StudyShards, TheSectionSaysHowEachSceneWasMeasured)
+{
+    std::vector<SceneMeasurement> ms;
+    for (const std::string scene : {"cornell7d", "interior_deep"})
+        for (const std::string sampler : {"Random", "Sobol", "CMJ2D-pad"})
+            for (const auto& m : measurementsOf(scene, sampler, sampler == "Random" ? 1e-2 : 4e-3)) ms.push_back(m);
+    const std::vector<SamplerSpec> samplers = {specOf("Random"), specOf("Sobol"), specOf("CMJ2D-pad")};
+    auto full = recordOf("cornell7d", "full mode"), reduced = recordOf("interior_deep", "reduced settings: see the command");
+    const std::string mixed = sceneSection({full, reduced}, ms, samplers);
+    EXPECT_NE(mixed.find("**not every scene is from the full mode**"), std::string::npos);
+    EXPECT_EQ(mixed.find("- Mode: full mode for every scene"), std::string::npos);
+    EXPECT_NE(mixed.find("`build/oas-study --parts scenes --scene cornell7d` (full mode)"), std::string::npos);
+    EXPECT_NE(mixed.find("`build/oas-study --parts scenes --scene interior_deep` (reduced settings: see the command)"),
+              std::string::npos);
+    EXPECT_NE(mixed.find("| 16–256 and the count nearest 4096 |"), std::string::npos);  // cornell7d only
+    EXPECT_NE(mixed.find("| interior_deep | llvmpipe (test) |"), std::string::npos);
+    // Every measured scene has its rows; a scene without a record is left out.
+    EXPECT_EQ(sceneSection({full}, ms, samplers).find("| interior_deep |"), std::string::npos);
+    auto fullToo = recordOf("interior_deep", "full mode");
+    const std::string allFull = sceneSection({full, fullToo}, ms, samplers);
+    EXPECT_NE(allFull.find("- Mode: full mode for every scene"), std::string::npos);
+    // The Random curve (1e-2/spp) against Sobol's (4e-3/spp): 0.4x, decided by the error bars.
+    EXPECT_NE(allFull.find("| cornell7d | Sobol | 128 |"), std::string::npos);
+}
+
 class StudyGpu : public oas::test::GpuTest {};
 
 TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
@@ -216,6 +398,27 @@ TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
     const auto curveRows = lines((dir / "scene_curves.csv").string());
     ASSERT_GT(curveRows.size(), 1u);
     EXPECT_NE(curveRows[0].find("rel_mse_se"), std::string::npos);
+    // The section is a function of the data files alone (what `--parts none` reassembles).
+    EXPECT_EQ(sceneSectionFromFiles(dir.string(), {specOf("Random"), specOf("Sobol")}), md);
+
+    // A second shard: another scene, run alone, merges in; cornell7d's rows stay as they were.
+    const auto before = lines((dir / "scenes.csv").string());
+    o.scenes = {"blue_spheres9d"};
+    o.maxSpp = 128;
+    // (Random only, to keep the test short: one pipeline fewer; the reference still needs Sobol's.)
+    const std::string merged = runSceneStudy(o, {specOf("Random")}, context());
+    const auto after = lines((dir / "scenes.csv").string());
+    ASSERT_GT(after.size(), before.size());
+    for (size_t i = 0; i < before.size(); ++i) EXPECT_EQ(after[i], before[i]) << i;  // cornell7d first, unchanged
+    for (size_t i = before.size(); i < after.size(); ++i) EXPECT_EQ(after[i].rfind("blue_spheres9d,", 0), 0u) << after[i];
+    EXPECT_EQ(readSceneRecords((dir / "scene_references.csv").string()).size(), 2u);
+    // cornell7d's equal-time rows are kept; blue_spheres9d has none (no Sobol curve, so no budget).
+    EXPECT_EQ(lines((dir / "scene_equal_time.csv").string()).size(), 3u);
+    // The section has both scenes, for the samplers it was asked about.
+    EXPECT_NE(merged.find("| cornell7d | Random | 128 |"), std::string::npos);
+    EXPECT_NE(merged.find("| blue_spheres9d | Random | 128 |"), std::string::npos);
+    EXPECT_EQ(merged.find("| cornell7d | Sobol |"), std::string::npos);
+    EXPECT_NE(merged.find("(n=2"), std::string::npos);
 }
 
 TEST_F(StudyGpu, TinyCostRunMeasuresEverySampler)

@@ -264,3 +264,48 @@ TEST(StudyStats, CrossingErrorBarWithNonAscendingTimes)
     EXPECT_TRUE(std::isfinite(c.x.se));
     EXPECT_GT(c.x.n, 0u);
 }
+
+// The scene data are read back to merge shards, so what CsvTable writes must come back cell for
+// cell, including cells with commas, quotes and line breaks (RFC 4180 quoting).
+TEST(StudyCsv, WhatCsvTableWritesParsesBackCellForCell)
+{
+    CsvTable t({"name", "pattern", "value"});
+    t.add({"a", "bose q=11 N=121 t=2 cmj, 12 dims/block", "1.5"});
+    t.add({"say \"hi\"", "two\nlines", ""});
+    t.add({"", "", "x"});
+    const CsvRows r = parseCsv(t.str(), "t.csv");
+    EXPECT_EQ(r.header, (std::vector<std::string>{"name", "pattern", "value"}));
+    ASSERT_EQ(r.rows.size(), 3u);
+    EXPECT_EQ(r.rows[0][1], "bose q=11 N=121 t=2 cmj, 12 dims/block");
+    EXPECT_EQ(r.rows[1][0], "say \"hi\"");
+    EXPECT_EQ(r.rows[1][1], "two\nlines");
+    EXPECT_EQ(r.rows[1][2], "");
+    EXPECT_EQ(r.rows[2], (std::vector<std::string>{"", "", "x"}));
+    EXPECT_EQ(r.column("value", "t.csv"), 2u);
+    // CRLF line ends and a missing final newline read the same.
+    const CsvRows crlf = parseCsv("a,b\r\n1,2\r\n3,4", "crlf.csv");
+    ASSERT_EQ(crlf.rows.size(), 2u);
+    EXPECT_EQ(crlf.rows[1], (std::vector<std::string>{"3", "4"}));
+}
+
+TEST(StudyCsv, BadCsvNamesTheFileAndTheLine)
+{
+    auto message = [](const std::string& text) {
+        try {
+            parseCsv(text, "bad.csv");
+        } catch (const std::runtime_error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    EXPECT_EQ(message("a,b\n1,2\n3\n"), "bad.csv:3: 1 cells, the header has 2");
+    EXPECT_EQ(message("a,b\n1,\"2\n"), "bad.csv:2: unterminated quoted cell");
+    const CsvRows ok = parseCsv("a,b\n1,2\n", "ok.csv");
+    try {
+        ok.column("c", "ok.csv");
+        FAIL() << "no error for a missing column";
+    } catch (const std::runtime_error& e) {
+        EXPECT_STREQ(e.what(), "ok.csv: no column \"c\"");
+    }
+    EXPECT_THROW(readCsv("/nonexistent/dir/x.csv"), std::runtime_error);
+}
