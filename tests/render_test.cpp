@@ -22,6 +22,7 @@
 #include "gpu_test_support.hpp"
 #include "render/plan.hpp"
 #include "render/scene_data.hpp"
+#include "render/scene_pattern.hpp"
 #include "render/tracer.hpp"
 #include "scene/scene.hpp"
 
@@ -656,4 +657,22 @@ TEST(BatchCursor, PassesCoverEveryPixelOnceWithTheSameSamplesForAnyTile)
             }
         }
     }
+}
+
+// oas-render and oas-view write the same header for the same render (plus their own extras).
+TEST(RenderAttributes, EveryWriterRecordsTheSceneSamplerPlanAndCounts)
+{
+    auto s = loadTestScene("cornell7d.json");
+    const auto plan = render::planDimensions(s);
+    const auto pattern = render::scenePattern(s, plan, false).pattern;
+    const auto a = render::renderAttributes(s, plan, pattern, 37);
+    EXPECT_EQ(a.at("oas.spp"), "37");
+    EXPECT_EQ(a.at("oas.sppRequested"), std::to_string(s.sampler.spp));
+    EXPECT_EQ(a.at("oas.sampler"), oas::describe(pattern));
+    EXPECT_EQ(a.at("oas.scene"), s.path.string());
+    // The plan's first line only (EXR string attributes stay one line).
+    EXPECT_FALSE(a.at("oas.dimensionPlan").empty());
+    EXPECT_EQ(a.at("oas.dimensionPlan").find('\n'), std::string::npos);
+    EXPECT_EQ(plan.explain().rfind(a.at("oas.dimensionPlan"), 0), 0u);
+    EXPECT_EQ(a.size(), 5u);
 }

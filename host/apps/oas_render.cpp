@@ -211,18 +211,12 @@ int main(int argc, char** argv)
         } catch (const std::bad_alloc&) {
             throw outOfMemory("the output image");
         }
-        std::string planLine = plan.explain();
-        planLine = planLine.substr(0, planLine.find('\n'));
-        oas::image::writeExr(output, image,
-                             {{"oas.spp", std::to_string(done)},
-                              {"oas.sppRequested", std::to_string(scene.sampler.spp)},
-                              {"oas.sampler", oas::describe(pattern)},
-                              {"oas.renderTimeSeconds", std::to_string(seconds)},
-                              {"oas.dimensionPlan", planLine},
-                              {"oas.device", where},
-                              {"oas.nonFiniteSamples", std::to_string(nonFinite)},
-                              {"oas.pipelineBuildSeconds", gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0"},
-                              {"oas.scene", scene.path.string()}});
+        auto attributes = oas::render::renderAttributes(scene, plan, pattern, done);
+        attributes["oas.renderTimeSeconds"] = std::to_string(seconds);
+        attributes["oas.device"] = where;
+        attributes["oas.nonFiniteSamples"] = std::to_string(nonFinite);
+        attributes["oas.pipelineBuildSeconds"] = gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0";
+        oas::image::writeExr(output, image, attributes);
         oas::image::writePngPreview(png, image);
         const double paths = double(scene.width) * scene.height * done;
         std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s", scene.name.c_str(), done, seconds,

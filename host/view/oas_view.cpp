@@ -441,16 +441,10 @@ public:
         const std::string exr = stem_ + ".exr", png = stem_ + ".png";
         if (const auto parent = std::filesystem::path(exr).parent_path(); !parent.empty())
             std::filesystem::create_directories(parent);
-        std::string planLine = plan_.explain();
-        planLine = planLine.substr(0, planLine.find('\n'));
-        oas::image::writeExr(exr, image_,
-                             {{"oas.spp", std::to_string(samplesShown_)},
-                              {"oas.sppRequested", std::to_string(scene_.sampler.spp)},
-                              {"oas.sampler", oas::describe(pattern_)},
-                              {"oas.dimensionPlan", planLine},
-                              {"oas.seed", std::to_string(o_.seed)},
-                              {"oas.scene", scene_.path.string()},
-                              {"oas.writer", "oas-view"}});
+        auto attributes = oas::render::renderAttributes(scene_, plan_, pattern_, samplesShown_);
+        attributes["oas.seed"] = std::to_string(o_.seed);
+        attributes["oas.writer"] = "oas-view";
+        oas::image::writeExr(exr, image_, attributes);
         oas::image::writePngPreview(png, image_);
         std::printf("wrote %s and %s (%u spp, %s)\n", exr.c_str(), png.c_str(), samplesShown_, choice_.c_str());
     }
