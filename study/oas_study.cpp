@@ -123,7 +123,7 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
          "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: every sampler, "
          "64 px, at least 6 renders per scene point plus 300 s of further renders per scene where they "
          "shrink the error bars most, and the 7D and 9D scenes at the paper's 3969/4096 spp; many hours on "
-         "2 cores, see below) or `scripts/study.sh --quick` (about 11 minutes); "
+         "2 cores, see below) or `scripts/study.sh --quick` (about 6 minutes); "
          "`build/oas-study --parts ...` reruns single "
          "parts, and this file is reassembled from the parts' sections in `docs/study/*.md`. Each section "
          "states the machine, date and command that made it. Assembled " << today() << " on " << cpuModel()
