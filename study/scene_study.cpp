@@ -462,7 +462,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
 
     std::vector<SceneMeasurement> all;
     std::vector<SceneRecord> records;
-    CsvTable eq(kEqualTimeColumns);
+    std::vector<std::vector<std::string>> freshEq;  // scene_equal_time.csv rows of this run
     // Random and Halton also render at Bose's counts (matched spp with the OAs).
     const SamplerSpec bose = studySamplers().front();
 
@@ -636,7 +636,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             const std::string file = info.name + "_" + slug(c.sampler) + "_error.png";
             oas::image::writePngPreview(imgDir + "/" + file, oas::image::falseColourError(it->second, reference));
             oas::image::writePngPreview(imgDir + "/" + info.name + "_" + slug(c.sampler) + ".png", it->second);
-            eq.add({info.name, c.sampler, std::to_string(spp), fmtG(c.seconds[best]), fmtG(budget),
+            freshEq.push_back({info.name, c.sampler, std::to_string(spp), fmtG(c.seconds[best]), fmtG(budget),
                     fmtG(oas::image::compare(it->second, reference).relMse - info.refErr), file});
         }
         records.push_back(std::move(info));
@@ -682,7 +682,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     CsvTable mergedEq(kEqualTimeColumns);
     for (const auto& row : keptEq)
         if (isMerged(row[0]) && !isFresh(row[0])) mergedEq.add(row);
-    for (const auto& row : parseCsv(eq.str(), "equal-time rows").rows) mergedEq.add(row);
+    for (const auto& row : freshEq) mergedEq.add(row);
     writeSceneMeasurements(csvPath, mergedMeasurements);
     writeSceneRecords(refPath, mergedRecords);
     mergedEq.write(eqPath);
