@@ -605,8 +605,10 @@ int main(int argc, char** argv)
             so.quick = quick;
             so.date = today();
             so.machine = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " threads)";
+            // Choosing scenes (--scene, a shard) keeps the full mode: each scene's record carries its own
+            // mode, and the section says "full mode for every scene" only when every record does.
             const bool customScenes = sceneWidth || sceneMaxSpp || sceneMinTrials || sceneMaxTrials || referenceSpp ||
-                                      scenePaperSpp >= 0 || sceneExtraSeconds >= 0 || !sceneNames.empty();
+                                      scenePaperSpp >= 0 || sceneExtraSeconds >= 0;
             so.modeLabel = quick ? "quick mode" : customScenes ? "reduced settings: see the command" : "full mode";
             so.scenesDir = scenesDir;
             so.scenes = sceneNames;
