@@ -99,7 +99,7 @@ PtMaterial pt_material(uint i) { return tContext->data->materials[i]; }
 PtLight pt_light(uint i) { return tContext->data->lights[i]; }
 PtNode pt_node(uint i) { return tContext->data->nodes[i]; }
 PtGlobals pt_globals() { return tContext->data->globals; }
-OasPattern pt_pattern() { return tContext->pattern; }
+// No pt_pattern(): its one caller, the GLSL pt_group_dims, is replaced by PT_FETCH_GROUP here.
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"

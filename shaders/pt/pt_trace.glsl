@@ -1,10 +1,11 @@
 // pt_trace.glsl - the path tracer, shared verbatim by the GPU kernel (pt_render.comp) and the
-// C++ reference tracer (host/render/pt_cpu.cpp, compiled with GLM). Keep to the common subset:
+// C++ reference tracer (host/render/tracer_cpu.cpp, compiled with GLM). Keep to the common subset:
 // float literals with an f suffix, no swizzles (vec3(v4) instead of v4.xyz), no in/out params.
 //
 // The includer provides, before including this file:
 //   accessors  PtShape pt_shape(uint), PtMaterial pt_material(uint), PtLight pt_light(uint),
-//              PtNode pt_node(uint), PtGlobals pt_globals(), OasPattern pt_pattern()
+//              PtNode pt_node(uint), PtGlobals pt_globals(), OasPattern pt_pattern() (only
+//              without PT_FETCH_GROUP: pt_group_dims is its one caller)
 //   constants  PT_HAS_LENS, PT_HAS_MOTION, PT_NEE, PT_MIS, PT_HAS_DIELECTRIC (bool);
 //              PT_MAX_DEPTH, PT_RR_START (0: no roulette) (uint); the dimension plan
 //              PT_DIM_PIXEL, PT_DIM_LENS, PT_DIM_TIME, PT_DIM_VERTEX_BASE, PT_DIM_VERTEX_STRIDE,
