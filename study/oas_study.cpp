@@ -130,7 +130,8 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
       << ".\n\n"
       << "Scope: in full mode the scene ladders run from 16 to 1024 spp (the 7D and 9D scenes also at the "
          "paper's 3969/4096) and images are 64 px wide, because lavapipe renders these scenes at well under 1 "
-         "Mpaths/s on 2 cores; the scene section's first table gives each scene's own settings. Every relMSE is a mean over independent renders "
+         "Mpaths/s on 2 cores; the scene section's first table gives each scene's own settings. "
+         "Every relMSE is a mean over independent renders "
          "with n and the standard error next to it (marked \"cap\" where the s.e. is still above 10% of the "
          "mean); verdicts are ties unless two numbers differ by more than twice their combined s.e. The scenes "
          "are ours (DESIGN §5), "
@@ -140,8 +141,8 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
         o << "> **Not every scene figure below is from the full mode**: the scene section's first table gives "
              "each scene's command and settings (smaller images, shorter ladders, fewer renders per point). The "
              "full mode (every sampler, 64 px, ladders to 1024 spp and the 7D and 9D scenes at 4096, 6+ renders "
-             "per point) takes about 2 hours of lavapipe time per scene on 2 cores (cornell7d: 6728 s on a 2-core "
-             "AMD EPYC, 2026-12-02); "
+             "per point) takes about 2 hours of lavapipe time per scene on 2 cores (that table's scene run "
+             "time column has each scene's measured time); "
              "`scripts/study.sh --parts scenes --scene NAME` runs one scene and merges it into the section "
              "(shards). The other parts' sections say which mode made them.\n\n";
     o << "## Goals\n\n";
