@@ -930,6 +930,9 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
               "same ladder point, each with its verdict.\n\n"
            << "| scene | sampler | spp | relMSE ± s.e. (n) | crop relMSE ± s.e. (n) | ÷ Random (same spp) | vs Random | "
               "÷ CMJ2D-pad | vs CMJ2D-pad | ms per frame |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        // Samplers without a valid count within a quarter octave of the paper's count (Bose-Bush:
+        // 2q^2 with q a power of two, so 2048 or 8192) have no row; say so rather than drop them.
+        std::vector<std::string> noCount;
         for (const auto& info : infos) {
             const SceneCurve* rnd = curveOf(info.name, "Random");
             const SceneCurve* cmj = curveOf(info.name, "CMJ2D-pad");
@@ -940,11 +943,25 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
                 const SceneCurve* c = curveOf(info.name, s.label);
                 if (!c) continue;
                 const double n = nearest(c->spp, high);
-                if (std::abs(std::log2(n / high)) > 0.26) continue;  // no count near it
+                if (std::abs(std::log2(n / high)) > 0.26) {  // no count near it
+                    if (std::find(noCount.begin(), noCount.end(), s.label) == noCount.end())
+                        noCount.push_back(s.label);
+                    continue;
+                }
                 countRow(info, s, *c, n, rnd, cmjHigh);
             }
         }
         md << "\n";
+        if (!noCount.empty()) {
+            md << "No row for ";
+            for (size_t i = 0; i < noCount.size(); ++i) md << (i ? ", " : "") << noCount[i];
+            const bool boseBush = std::any_of(noCount.begin(), noCount.end(),
+                                              [](const std::string& l) { return l.rfind("BoseBush", 0) == 0; });
+            md << ": no valid count within a quarter octave of " << paperHigh
+               << (boseBush ? " (Bose–Bush counts are 2q² with q a power of two, so 2048 and 8192 are the nearest)"
+                            : "")
+               << "; the rare-events table below has each sampler's largest measured count.\n\n";
+        }
     }
 
     // --- Rare events: the worst pixels ---------------------------------------------------------

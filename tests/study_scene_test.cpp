@@ -344,6 +344,40 @@ TEST(StudyShards, TheSectionSaysHowEachSceneWasMeasured)
     EXPECT_NE(allFull.find("| cornell7d | Sobol | 128 |"), std::string::npos);
 }
 
+// A sampler without a count near the paper's 4096 (Bose-Bush: 2q^2, so 2048 or 8192) gets no row in
+// that table, and the table names it instead of dropping it silently.
+TEST(StudyShards, ThePaperCountTableNamesSamplersWithoutANearCount)
+{
+    std::vector<SceneMeasurement> ms;
+    const std::vector<std::pair<std::string, std::vector<std::uint32_t>>> ladders = {
+        {"Random", {128, 4096}}, {"CMJ2D-pad", {128, 4096}}, {"BoseBushCMJ", {128, 512}}};
+    for (const auto& [sampler, counts] : ladders)
+        for (std::uint32_t spp : counts)
+            for (std::uint32_t t = 0; t < 3; ++t) {
+                SceneMeasurement m = measurementsOf("cornell7d", sampler, 1e-2)[0];
+                m.spp = spp;
+                m.trial = t;
+                m.relMse = 1e-2 / spp * (1 + 0.05 * t);
+                m.relMseCrop = 2 * m.relMse;
+                m.relMseWorst = 0.25 * m.relMse;
+                ms.push_back(m);
+            }
+    const std::vector<SamplerSpec> samplers = {specOf("Random"), specOf("CMJ2D-pad"), specOf("BoseBushCMJ")};
+    auto rec = recordOf("cornell7d", "full mode");
+    rec.largestSpp = 4096;
+    const std::string md = sceneSection({rec}, ms, samplers);
+    const auto table = md.find("### At the paper's high count");
+    ASSERT_NE(table, std::string::npos);
+    const std::string rest = md.substr(table, md.find("### Rare events") - table);
+    EXPECT_NE(rest.find("| cornell7d | CMJ2D-pad | 4096 |"), std::string::npos);
+    EXPECT_EQ(rest.find("| cornell7d | BoseBushCMJ |"), std::string::npos);
+    EXPECT_NE(rest.find("No row for BoseBushCMJ: no valid count within a quarter octave of 4096 (Bose–Bush"),
+              std::string::npos);
+    // With every sampler near 4096 there is nothing to name.
+    const std::vector<SamplerSpec> two = {specOf("Random"), specOf("CMJ2D-pad")};
+    EXPECT_EQ(sceneSection({rec}, ms, two).find("No row for"), std::string::npos);
+}
+
 class StudyGpu : public oas::test::GpuTest {};
 
 TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
