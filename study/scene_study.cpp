@@ -930,9 +930,10 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
               "same ladder point, each with its verdict.\n\n"
            << "| scene | sampler | spp | relMSE ± s.e. (n) | crop relMSE ± s.e. (n) | ÷ Random (same spp) | vs Random | "
               "÷ CMJ2D-pad | vs CMJ2D-pad | ms per frame |\n|---|---|---|---|---|---|---|---|---|---|\n";
-        // Samplers without a valid count within a quarter octave of the paper's count (Bose-Bush:
-        // 2q^2 with q a power of two, so 2048 or 8192) have no row; say so rather than drop them.
-        std::vector<std::string> noCount;
+        // Samplers without a valid count within a quarter octave of the paper's count (e.g. Bose-Bush,
+        // 2q^2 with q a power of two: 2048 or 8192 near 4096) have no row; name them, with the largest
+        // count they were measured at, rather than drop them.
+        std::map<std::string, double> noCount;  // label -> largest measured count
         for (const auto& info : infos) {
             const SceneCurve* rnd = curveOf(info.name, "Random");
             const SceneCurve* cmj = curveOf(info.name, "CMJ2D-pad");
@@ -944,8 +945,8 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
                 if (!c) continue;
                 const double n = nearest(c->spp, high);
                 if (std::abs(std::log2(n / high)) > 0.26) {  // no count near it
-                    if (std::find(noCount.begin(), noCount.end(), s.label) == noCount.end())
-                        noCount.push_back(s.label);
+                    double& largest = noCount[s.label];
+                    largest = std::max(largest, *std::max_element(c->spp.begin(), c->spp.end()));
                     continue;
                 }
                 countRow(info, s, *c, n, rnd, cmjHigh);
@@ -954,13 +955,11 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
         md << "\n";
         if (!noCount.empty()) {
             md << "No row for ";
-            for (size_t i = 0; i < noCount.size(); ++i) md << (i ? ", " : "") << noCount[i];
-            const bool boseBush = std::any_of(noCount.begin(), noCount.end(),
-                                              [](const std::string& l) { return l.rfind("BoseBush", 0) == 0; });
+            const char* sep = "";
+            for (const auto& [label, largest] : noCount)
+                md << sep << label << " (measured up to " << largest << ")", sep = ", ";
             md << ": no valid count within a quarter octave of " << paperHigh
-               << (boseBush ? " (Bose–Bush counts are 2q² with q a power of two, so 2048 and 8192 are the nearest)"
-                            : "")
-               << "; the rare-events table below has each sampler's largest measured count.\n\n";
+               << "; the rare-events table below has each sampler at its largest measured count.\n\n";
         }
     }
 
