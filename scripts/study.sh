@@ -6,7 +6,9 @@
 # above 10% of the mean (--scene-min-trials, --scene-extra-seconds,
 # --scene-max-trials), and the 7D and 9D scenes add the paper's 3969/4096 spp (--scene-paper-spp).
 # Other oas-study options pass through, e.g. --parts scenes to rerun one part, or
-# --parts scenes --scene cornell7d to (re)measure one scene and merge it with the others (shards).
+# --parts scenes --scene cornell7d to (re)measure one scene and merge it with the others (shards),
+# or --parts scenes --scene interior_deep --only Random Sobol BoseCMJ to measure some of a scene's
+# samplers against its kept reference (sampler shards, for a scene longer than one run).
 # Plots need Debian's python3-matplotlib, installed here when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -144,7 +144,8 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
              "per point) takes about 2 hours of lavapipe time per scene on 2 cores (that table's scene run "
              "time column has each scene's measured time); "
              "`scripts/study.sh --parts scenes --scene NAME` runs one scene and merges it into the section "
-             "(shards). The other parts' sections say which mode made them.\n\n";
+             "(shards), and `--scene NAME --only LABEL ...` some of its samplers (sampler shards, against the "
+             "scene's kept reference). The other parts' sections say which mode made them.\n\n";
     o << "## Goals\n\n";
     if (!analytic.empty()) {
         std::istringstream in(analytic);
@@ -200,7 +201,9 @@ int main(int argc, char** argv)
     app.add_option("--min-spp", minSpp, "smallest sample count (16)");
     app.add_option("--max-spp", maxSpp, "largest sample count (quick 2048, full 4096)");
     app.add_option("--threads", threads, "worker threads (0: all)");
-    app.add_option("--only", only, "sampler labels to run (default: all)");
+    app.add_option("--only", only,
+                   "sampler labels to run (default: all); with --parts scenes a sampler shard: it replaces only "
+                   "these samplers' rows of the scene and reuses the scene's reference when the settings match");
     app.add_option("--rqmc-log2n", rqmcLog2, "RQMC reference: log2 of points per replicate (16)");
     app.add_option("--rqmc-reps", rqmcReps, "RQMC reference: replicates (64)");
     app.add_option("--out-dir", outDir, "output folder for CSVs, slopes.md and plots (docs/study)");
@@ -254,6 +257,14 @@ int main(int argc, char** argv)
     std::filesystem::create_directories(outDir);
     auto samplers = studySamplers();
     if (!only.empty()) {
+        for (const auto& label : only)
+            if (std::none_of(samplers.begin(), samplers.end(), [&](const SamplerSpec& s) { return s.label == label; })) {
+                std::string valid;
+                for (const auto& s : samplers) valid += (valid.empty() ? "" : ", ") + s.label;
+                std::fprintf(stderr, "oas-study: error: --only: \"%s\" is not a sampler label (valid: %s)\n", label.c_str(),
+                             valid.c_str());
+                return 2;
+            }
         std::vector<SamplerSpec> keep;
         for (auto& s : samplers)
             if (std::find(only.begin(), only.end(), s.label) != only.end()) keep.push_back(s);
@@ -626,6 +637,12 @@ int main(int argc, char** argv)
             // Full mode: 300 s of extra renders per scene, where they shrink the error bars most (the
             // firefly-dominated points would otherwise take every render up to the cap: hours).
             so.extraSecondsPerScene = sceneExtraSeconds >= 0 ? sceneExtraSeconds : (quick ? 0 : 300);
+            // Sampler shards (--only): each shard joins the scene's earlier record when the settings
+            // match. The default extra budget is split by the shard's share of the samplers, so that a
+            // scene's shards together spend the full mode's 300 s.
+            so.samplerShard = !only.empty();
+            if (so.samplerShard && sceneExtraSeconds < 0 && !quick)
+                so.extraSecondsPerScene = 300.0 * double(samplers.size()) / double(studySamplers().size());
             // Quick mode: a subset of samplers, to keep it to minutes (one path-tracing pipeline per
             // construction x offset x field kind, ~1.5 s each on lavapipe, and the renders
             // themselves); the full mode renders every sampler.

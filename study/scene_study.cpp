@@ -277,12 +277,13 @@ std::string cropWhatOf(const std::string& name)
     return "";
 }
 
-template <class T, class NameOf>
-std::vector<T> mergeByScene(const std::vector<T>& kept, const std::vector<T>& fresh, NameOf nameOf)
+/// `kept` without the rows whose key (keyOf) a row of `fresh` has, then `fresh`, in scene order.
+template <class T, class NameOf, class KeyOf>
+std::vector<T> mergeByKey(const std::vector<T>& kept, const std::vector<T>& fresh, NameOf nameOf, KeyOf keyOf)
 {
     std::vector<T> all;
     for (const auto& k : kept)
-        if (std::none_of(fresh.begin(), fresh.end(), [&](const T& f) { return nameOf(f) == nameOf(k); }))
+        if (std::none_of(fresh.begin(), fresh.end(), [&](const T& f) { return keyOf(f) == keyOf(k); }))
             all.push_back(k);
     all.insert(all.end(), fresh.begin(), fresh.end());
     // Scene order (studyScenes(), then first appearance); rows keep their order within a scene.
@@ -296,6 +297,12 @@ std::vector<T> mergeByScene(const std::vector<T>& kept, const std::vector<T>& fr
         for (const auto& a : all)
             if (nameOf(a) == name) sorted.push_back(a);
     return sorted;
+}
+
+template <class T, class NameOf>
+std::vector<T> mergeByScene(const std::vector<T>& kept, const std::vector<T>& fresh, NameOf nameOf)
+{
+    return mergeByKey(kept, fresh, nameOf, nameOf);
 }
 
 /// Each record's curves, its points marked capped by its own s.e. target.
@@ -436,6 +443,67 @@ std::vector<SceneMeasurement> mergeSceneMeasurements(const std::vector<SceneMeas
     return mergeByScene(kept, fresh, [](const SceneMeasurement& m) { return m.scene; });
 }
 
+std::vector<SceneMeasurement> mergeSamplerShard(const std::vector<SceneMeasurement>& kept,
+                                                const std::vector<SceneMeasurement>& fresh)
+{
+    return mergeByKey(
+        kept, fresh, [](const SceneMeasurement& m) { return m.scene; },
+        [](const SceneMeasurement& m) { return std::make_pair(m.scene, m.sampler); });
+}
+
+bool sameSceneSettings(const SceneRecord& a, const SceneRecord& b, std::string* why)
+{
+    auto differs = [&](const char* what, const std::string& x, const std::string& y) {
+        if (x == y) return false;
+        if (why) *why = std::string(what) + " " + x + " vs " + y;
+        return true;
+    };
+    auto num = [](double v) { return fmtG(v, 9); };
+    auto crop = [](const oas::image::Crop& c) {
+        return std::to_string(c.w) + "x" + std::to_string(c.h) + "+" + std::to_string(c.x) + "+" + std::to_string(c.y);
+    };
+    return !(differs("scene", a.name, b.name) ||
+             differs("size", std::to_string(a.width) + "x" + std::to_string(a.height),
+                     std::to_string(b.width) + "x" + std::to_string(b.height)) ||
+             differs("dims", std::to_string(a.dims), std::to_string(b.dims)) || differs("crop", crop(a.crop), crop(b.crop)) ||
+             differs("reference", a.referenceSampler + "@" + std::to_string(a.referenceSpp),
+                     b.referenceSampler + "@" + std::to_string(b.referenceSpp)) ||
+             differs("spp ladder", std::to_string(a.minSpp) + "-" + std::to_string(a.maxSpp) + "/" + std::to_string(a.paperHighSpp),
+                     std::to_string(b.minSpp) + "-" + std::to_string(b.maxSpp) + "/" + std::to_string(b.paperHighSpp)) ||
+             differs("renders per point", std::to_string(a.minTrials) + "-" + std::to_string(a.maxTrials),
+                     std::to_string(b.minTrials) + "-" + std::to_string(b.maxTrials)) ||
+             differs("s.e. target", num(a.relSeTarget), num(b.relSeTarget)) || differs("mode", a.modeLabel, b.modeLabel) ||
+             differs("device", a.device, b.device));
+}
+
+SceneRecord joinShardRecord(const SceneRecord& kept, const SceneRecord& fresh)
+{
+    // "a + b", b added only when a does not list it yet.
+    auto join = [](const std::string& list, const std::string& item, const std::string& sep) {
+        if (list.empty()) return item;
+        size_t at = 0;
+        while (at <= list.size()) {
+            const size_t end = std::min(list.find(sep, at), list.size());
+            if (list.compare(at, end - at, item) == 0) return list;
+            at = end + sep.size();
+        }
+        return list + sep + item;
+    };
+    SceneRecord r = fresh;
+    r.referenceSampler = kept.referenceSampler;
+    r.referenceSpp = kept.referenceSpp;
+    r.refErr = kept.refErr;
+    r.refErrCrop = kept.refErrCrop;
+    r.refSeconds = kept.refSeconds;
+    r.largestSpp = std::max(kept.largestSpp, fresh.largestSpp);
+    r.extraSeconds = kept.extraSeconds + fresh.extraSeconds;
+    r.runSeconds = kept.runSeconds + fresh.runSeconds;
+    r.date = join(kept.date, fresh.date, " + ");
+    r.machine = join(kept.machine, fresh.machine, " + ");
+    r.command = join(kept.command, fresh.command, " ; ");
+    return r;
+}
+
 std::string sceneSectionFromFiles(const std::string& outDir, const std::vector<SamplerSpec>& samplers)
 {
     const std::string refPath = outDir + "/scene_references.csv", csvPath = outDir + "/scenes.csv";
@@ -460,8 +528,44 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     if (cases.empty()) throw std::invalid_argument("--scene: none of the given names is a study scene "
                                                    "(cornell7d, blue_spheres9d, interior_deep)");
 
+    // The scenes measured before (other shards): kept, and merged with this run's at the end.
+    const std::string refPath = o.outDir + "/scene_references.csv", csvPath = o.outDir + "/scenes.csv",
+                      eqPath = o.outDir + "/scene_equal_time.csv";
+    std::vector<SceneRecord> keptRecords;
+    std::vector<SceneMeasurement> keptMeasurements;
+    std::vector<std::vector<std::string>> keptEq;
+    if (fs::exists(refPath) && fs::exists(csvPath)) {
+        try {
+            keptRecords = readSceneRecords(refPath);
+            keptMeasurements = readSceneMeasurements(csvPath);
+            if (fs::exists(eqPath)) {
+                const CsvRows old = readCsv(eqPath);
+                for (const auto& row : old.rows) {
+                    std::vector<std::string> cells;
+                    for (const auto& name : kEqualTimeColumns) cells.push_back(row[old.column(name, eqPath)]);
+                    keptEq.push_back(cells);
+                }
+            }
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "note: the earlier scene data are not merged (%s); the section has only the scenes run now\n",
+                         e.what());
+            keptRecords.clear();
+            keptMeasurements.clear();
+            keptEq.clear();
+        }
+    }
+    // A sample's seed uses the sampler's place in studySamplers(), not in this run's list, so that
+    // the samplers of different shards never share seeds.
+    const auto every = studySamplers();
+    auto seedIndex = [&](std::uint32_t k) {
+        for (std::uint32_t i = 0; i < every.size(); ++i)
+            if (every[i].label == samplers[k].label) return i;
+        return std::uint32_t(every.size() + k);
+    };
+
     std::vector<SceneMeasurement> all;
     std::vector<SceneRecord> records;
+    std::vector<std::string> joinedScenes;          // sampler shards that joined the scene's earlier record
     std::vector<std::vector<std::string>> freshEq;  // scene_equal_time.csv rows of this run
     // Random and Halton also render at Bose's counts (matched spp with the OAs).
     const SamplerSpec bose = studySamplers().front();
@@ -513,7 +617,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             if (sc.paperHighCount && o.paperHighSpp > o.maxSpp) {
                 std::vector<const SamplerSpec*> from{anyCount ? &bose : &s};
                 if (s.sampler == "random")
-                    for (const auto& other : samplers) from.push_back(&other);
+                    for (const auto& other : every) from.push_back(&other);
                 for (const SamplerSpec* f : from)
                     if (const std::uint32_t c = nearestCount(
                             f->sampler == "random" || f->sampler == "halton" ? bose : *f, plan.sampleDims, o.paperHighSpp))
@@ -543,28 +647,60 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         }
         info.referenceSpp = referenceSpp;
         info.largestSpp = largest;
+        // A sampler shard joins the scene's earlier record (and reuses its reference image) when
+        // the settings match; otherwise the scene starts over.
+        const std::string refExr = imgDir + "/" + info.name + "_reference.exr";
+        const SceneRecord* kept = nullptr;
+        for (const auto& r : keptRecords)
+            if (r.name == info.name) kept = &r;
+        bool joined = false;
+        if (o.samplerShard && kept) {
+            std::string why;
+            if (!sameSceneSettings(*kept, info, &why)) {
+                std::fprintf(stderr, "note: %s starts over: its earlier rows were measured with other settings (%s)\n",
+                             info.name.c_str(), why.c_str());
+            } else if (!fs::exists(refExr)) {
+                std::fprintf(stderr, "note: %s starts over: its earlier reference image %s is missing\n", info.name.c_str(),
+                             refExr.c_str());
+            } else {
+                reference = oas::image::readExr(refExr);
+                joined = reference.width == info.width && reference.height == info.height;
+                if (!joined)
+                    std::fprintf(stderr, "note: %s starts over: %s is %ux%u, not %ux%u\n", info.name.c_str(), refExr.c_str(),
+                                 reference.width, reference.height, info.width, info.height);
+            }
+        }
         const oas::Pattern refPattern = oas::makePattern(patternRequest(sobolSpec, referenceSpp / 2, plan.sampleDims));
-        allPatterns.push_back(refPattern);
+        if (!joined) allPatterns.push_back(refPattern);
         const auto tp = Clock::now();
         cache.prepare(allPatterns);
         std::fprintf(stderr, "  pipelines built in %.0f s\n", std::chrono::duration<double>(Clock::now() - tp).count());
-        // Reference: Owen-scrambled Sobol, two independent halves. For independent renders A and
-        // B of equal variance, E relMSE(A, B) = 2 var(half) and the average's variance is
-        // var(half) / 2, so relMSE(A, B) / 4 estimates the reference's own relative error. It is
-        // subtracted from every measurement (E relMSE(I, R) = relMSE(I) + relMSE(R) for independent
-        // I, R) and reported, so the reader can see how far below the smallest measurement it is.
-        std::fprintf(stderr, "[scenes] %s %ux%u, %uD: reference (Sobol, 2 x %u spp)...\n", info.name.c_str(),
-                     scene.width, scene.height, plan.usedDims, referenceSpp / 2);
-        auto& refTracer = cache.get(refPattern);
-        const Render a = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0xA5A5A5A5u + si);
-        const Render b = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0x5A5A5A5Au + si);
-        reference = a.image;
-        for (std::size_t i = 0; i < reference.rgba.size(); ++i)
-            reference.rgba[i] = 0.5f * (a.image.rgba[i] + b.image.rgba[i]);
-        info.refErr = oas::image::compare(a.image, b.image).relMse / 4;
-        info.refErrCrop = oas::image::compare(a.image, b.image, info.crop).relMse / 4;
-        info.refSeconds = a.seconds + b.seconds;
-        oas::image::writePngPreview(imgDir + "/" + info.name + "_reference.png", reference);
+        if (joined) {
+            std::fprintf(stderr, "[scenes] %s %ux%u, %uD: sampler shard, reference %s (Sobol, %u spp) reused\n",
+                         info.name.c_str(), scene.width, scene.height, plan.usedDims, refExr.c_str(), kept->referenceSpp);
+            info.refErr = kept->refErr;
+            info.refErrCrop = kept->refErrCrop;
+        } else {
+            // Reference: Owen-scrambled Sobol, two independent halves. For independent renders A and
+            // B of equal variance, E relMSE(A, B) = 2 var(half) and the average's variance is
+            // var(half) / 2, so relMSE(A, B) / 4 estimates the reference's own relative error. It is
+            // subtracted from every measurement (E relMSE(I, R) = relMSE(I) + relMSE(R) for independent
+            // I, R) and reported, so the reader can see how far below the smallest measurement it is.
+            std::fprintf(stderr, "[scenes] %s %ux%u, %uD: reference (Sobol, 2 x %u spp)...\n", info.name.c_str(),
+                         scene.width, scene.height, plan.usedDims, referenceSpp / 2);
+            auto& refTracer = cache.get(refPattern);
+            const Render a = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0xA5A5A5A5u + si);
+            const Render b = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0x5A5A5A5Au + si);
+            reference = a.image;
+            for (std::size_t i = 0; i < reference.rgba.size(); ++i)
+                reference.rgba[i] = 0.5f * (a.image.rgba[i] + b.image.rgba[i]);
+            info.refErr = oas::image::compare(a.image, b.image).relMse / 4;
+            info.refErrCrop = oas::image::compare(a.image, b.image, info.crop).relMse / 4;
+            info.refSeconds = a.seconds + b.seconds;
+            oas::image::writePngPreview(imgDir + "/" + info.name + "_reference.png", reference);
+            // Kept for later sampler shards of the scene (exact floats: the same relMSE for each).
+            oas::image::writeExr(refExr, reference, {{"oas.scene", info.name}, {"oas.reference_spp", std::to_string(referenceSpp)}});
+        }
 
         // Every (sampler, spp) of the scene is one point of a shared render-time budget
         // (SceneStudyOptions, budgetedMeans): minTrials renders each, then the extra renders go
@@ -594,7 +730,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 }
                 auto& tracer = cache.get(*pt.pattern);
                 const Render r =
-                    render(tracer, plan, scene.width, scene.height, pt.spp, mixSeed(si, pt.sampler, pt.spp, t));
+                    render(tracer, plan, scene.width, scene.height, pt.spp, mixSeed(si, seedIndex(pt.sampler), pt.spp, t));
                 SceneMeasurement m;
                 m.scene = info.name;
                 m.sampler = s.label;
@@ -617,11 +753,15 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         info.runSeconds = std::chrono::duration<double>(Clock::now() - sceneStart).count();
 
         // Equal-time error images: for each sampler, the trial-0 render whose time is nearest (in
-        // log) to the budget T1, the time Sobol took at 128 spp (as in the section's equal-time table).
+        // log) to the budget T1, the time Sobol took at 128 spp (as in the section's equal-time table;
+        // in a sampler shard without Sobol, from the scene's earlier shards).
         const std::vector<SceneMeasurement> mine(all.begin() + firstOfScene, all.end());
         const auto curves = curvesOf(mine, o.relSeTarget);
+        std::vector<SceneMeasurement> sceneSoFar;
+        for (const auto& m : joined ? mergeSamplerShard(keptMeasurements, mine) : mine)
+            if (m.scene == info.name) sceneSoFar.push_back(m);
         double budget = NAN;
-        for (const auto& c : curves)
+        for (const auto& c : curvesOf(sceneSoFar, o.relSeTarget))
             if (c.sampler == "Sobol")
                 for (size_t i = 0; i < c.spp.size(); ++i)
                     if (c.spp[i] == 128) budget = c.seconds[i];
@@ -639,36 +779,17 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             freshEq.push_back({info.name, c.sampler, std::to_string(spp), fmtG(c.seconds[best]), fmtG(budget),
                     fmtG(oas::image::compare(it->second, reference).relMse - info.refErr), file});
         }
+        if (joined) {
+            info = joinShardRecord(*kept, info);
+            joinedScenes.push_back(info.name);
+        }
         records.push_back(std::move(info));
     }
 
     // Merge with the scenes measured before (other shards), write the data, and build the section
-    // from what was written: a section assembled later from the files alone is the same.
-    const std::string refPath = o.outDir + "/scene_references.csv", csvPath = o.outDir + "/scenes.csv",
-                      eqPath = o.outDir + "/scene_equal_time.csv";
-    std::vector<SceneRecord> keptRecords;
-    std::vector<SceneMeasurement> keptMeasurements;
-    std::vector<std::vector<std::string>> keptEq;
-    if (fs::exists(refPath) && fs::exists(csvPath)) {
-        try {
-            keptRecords = readSceneRecords(refPath);
-            keptMeasurements = readSceneMeasurements(csvPath);
-            if (fs::exists(eqPath)) {
-                const CsvRows old = readCsv(eqPath);
-                for (const auto& row : old.rows) {
-                    std::vector<std::string> cells;
-                    for (const auto& name : kEqualTimeColumns) cells.push_back(row[old.column(name, eqPath)]);
-                    keptEq.push_back(cells);
-                }
-            }
-        } catch (const std::exception& e) {
-            std::fprintf(stderr, "note: the earlier scene data are not merged (%s); the section has only the scenes run now\n",
-                         e.what());
-            keptRecords.clear();
-            keptMeasurements.clear();
-            keptEq.clear();
-        }
-    }
+    // from what was written: a section assembled later from the files alone is the same. A scene run
+    // now replaces its earlier rows, except that a sampler shard which joined the scene's record
+    // replaces only its own samplers' rows.
     const auto mergedRecords = mergeSceneRecords(keptRecords, records);
     auto isMerged = [&](const std::string& scene) {
         return std::any_of(mergedRecords.begin(), mergedRecords.end(), [&](const SceneRecord& r) { return r.name == scene; });
@@ -676,13 +797,33 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     auto isFresh = [&](const std::string& scene) {
         return std::any_of(records.begin(), records.end(), [&](const SceneRecord& r) { return r.name == scene; });
     };
+    auto isJoined = [&](const std::string& scene) {
+        return std::find(joinedScenes.begin(), joinedScenes.end(), scene) != joinedScenes.end();
+    };
+    auto isFreshSampler = [&](const std::string& scene, const std::string& sampler) {
+        return std::any_of(all.begin(), all.end(), [&](const SceneMeasurement& m) { return m.scene == scene && m.sampler == sampler; });
+    };
+    std::vector<SceneMeasurement> keptNow;  // without the rows of the scenes that start over
+    for (const auto& m : keptMeasurements)
+        if (!isFresh(m.scene) || isJoined(m.scene)) keptNow.push_back(m);
     std::vector<SceneMeasurement> mergedMeasurements;
-    for (auto& m : mergeSceneMeasurements(keptMeasurements, all))
+    for (auto& m : mergeSamplerShard(keptNow, all))
         if (isMerged(m.scene)) mergedMeasurements.push_back(std::move(m));  // no rows without a record
-    CsvTable mergedEq(kEqualTimeColumns);
+    std::vector<std::vector<std::string>> eqRows;
     for (const auto& row : keptEq)
-        if (isMerged(row[0]) && !isFresh(row[0])) mergedEq.add(row);
-    for (const auto& row : freshEq) mergedEq.add(row);
+        if (isMerged(row[0]) && (!isFresh(row[0]) || (isJoined(row[0]) && !isFreshSampler(row[0], row[1]))))
+            eqRows.push_back(row);
+    eqRows.insert(eqRows.end(), freshEq.begin(), freshEq.end());
+    // Scene order, then table order (a joined shard's rows would otherwise come last).
+    auto samplerRank = [&](const std::string& label) {
+        return size_t(std::find_if(every.begin(), every.end(), [&](const SamplerSpec& e) { return e.label == label; }) -
+                      every.begin());
+    };
+    std::stable_sort(eqRows.begin(), eqRows.end(), [&](const auto& a, const auto& b) {
+        return std::make_pair(sceneRank(a[0]), samplerRank(a[1])) < std::make_pair(sceneRank(b[0]), samplerRank(b[1]));
+    });
+    CsvTable mergedEq(kEqualTimeColumns);
+    for (const auto& row : eqRows) mergedEq.add(row);
     writeSceneMeasurements(csvPath, mergedMeasurements);
     writeSceneRecords(refPath, mergedRecords);
     mergedEq.write(eqPath);
@@ -746,10 +887,18 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
 
     std::ostringstream md;
     // How the scenes were run: one row per scene (shards may differ in settings, device and date).
+    // A scene measured in sampler shards that are not all in yet lacks some samplers' curves.
+    auto missingSamplers = [&](const std::string& scene) {
+        std::vector<std::string> missing;
+        for (const auto& s : samplers)
+            if (!curveOf(scene, s.label)) missing.push_back(s.label);
+        if (missing.size() == samplers.size()) missing.clear();  // a section about other samplers
+        return missing;
+    };
     bool allFull = !infos.empty();
     std::set<std::string> devices;
     for (const auto& info : infos) {
-        allFull = allFull && info.modeLabel == "full mode";
+        allFull = allFull && info.modeLabel == "full mode" && missingSamplers(info.name).empty();
         devices.insert(info.device);
     }
     const bool allLavapipe = std::all_of(devices.begin(), devices.end(), [](const std::string& d) {
@@ -759,7 +908,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
        << "- Runs: each scene's device, machine, date, command and settings are in the table below. Scenes can be "
           "measured in separate runs (`oas-study --parts scenes --scene NAME` replaces only that scene's rows in "
           "the data files and reassembles this section from them), so they may differ.\n"
-       << "- Mode: " << (allFull ? "full mode for every scene" : "**not every scene is from the full mode** (table)")
+       << "- Mode: " << (allFull ? "full mode for every scene" : "**not every scene is from the full mode with every sampler** (table)")
        << "; time is wall-clock time on the scene's device"
        << (allLavapipe ? " (lavapipe, the CI machine's Vulkan, for every scene)" : " (not the same device for every scene: compare times within a scene only)")
        << ".\n"
@@ -789,13 +938,32 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
 
     md << "| scene | device | machine, date | command (mode) | image | spp | renders per point | extra render s | s.e. target | scene run time |\n"
           "|---|---|---|---|---|---|---|---|---|---|\n";
+    // A joined sampler shard's record lists its commands with " ; " between them.
+    auto commandsCell = [](const std::string& commands) {
+        std::string out;
+        for (size_t at = 0; at <= commands.size();) {
+            const size_t end = std::min(commands.find(" ; ", at), commands.size());
+            out += (out.empty() ? "`build/" : " then `build/") + commands.substr(at, end - at) + "`";
+            at = end + 3;
+        }
+        return out;
+    };
     for (const auto& info : infos)
-        md << "| " << info.name << " | " << info.device << " | " << info.machine << ", " << info.date << " | `build/"
-           << info.command << "` (" << info.modeLabel << ") | " << info.width << " px wide | " << info.minSpp << "–"
+        md << "| " << info.name << " | " << info.device << " | " << info.machine << ", " << info.date << " | "
+           << commandsCell(info.command) << " (" << info.modeLabel << ") | " << info.width << " px wide | " << info.minSpp << "–"
            << info.maxSpp << (info.paperHighSpp ? " and the count nearest " + std::to_string(info.paperHighSpp) : std::string())
            << " | " << info.minTrials << " to " << info.maxTrials << " | " << fmtG(info.extraSeconds) << " | "
            << fmtF(100 * info.relSeTarget, 0) << "% | " << fmtF(info.runSeconds, 0) << " s |\n";
     md << "\n";
+    // A scene measured in sampler shards that are not all in yet says which samplers it lacks.
+    for (const auto& info : infos) {
+        const auto missing = missingSamplers(info.name);
+        if (missing.empty()) continue;
+        md << "**" << info.name << " has " << samplers.size() - missing.size() << " of the " << samplers.size()
+           << " samplers so far** (sampler shards); not yet measured, so absent from its tables: ";
+        for (size_t i = 0; i < missing.size(); ++i) md << (i ? ", " : "") << missing[i];
+        md << ".\n\n";
+    }
 
     md << "| scene | size | integrand dims | crop | reference spp | reference relMSE (full / crop) | smallest measured relMSE (full / crop) |\n"
           "|---|---|---|---|---|---|---|\n";

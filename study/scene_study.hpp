@@ -54,6 +54,13 @@ struct SceneStudyOptions {
     /// the command changed the full mode's scene options (the command line is printed too).
     std::string modeLabel = "full mode";
     std::string date, machine;  ///< when and on which CPU the run happened (for the section's table)
+    /// A sampler shard (`--scene X --only A B`, for a scene whose full mode does not fit one run):
+    /// when the scene's earlier record has the same settings (sameSceneSettings) and its reference
+    /// image (outDir/scenes/NAME_reference.exr) is there, the shard reuses that reference, so that
+    /// every shard's relMSE is against the same image, replaces only its own samplers' rows and
+    /// joins the record (joinShardRecord). Otherwise the scene starts over: a new reference, and the
+    /// scene's earlier rows are dropped (a note says why).
+    bool samplerShard = false;
 };
 
 /// One scene's run, a row of scene_references.csv: its size, crop and reference, and the settings,
@@ -122,6 +129,20 @@ std::vector<SceneMeasurement> readSceneMeasurements(const std::string& path);
 std::vector<SceneRecord> mergeSceneRecords(const std::vector<SceneRecord>& kept, const std::vector<SceneRecord>& fresh);
 std::vector<SceneMeasurement> mergeSceneMeasurements(const std::vector<SceneMeasurement>& kept,
                                                      const std::vector<SceneMeasurement>& fresh);
+
+/// Sampler shards. Whether two records of a scene were measured with the same settings (size,
+/// crop, dims, reference, spp ladder, renders per point, s.e. target, mode, device): shards of a
+/// scene are merged only then. `why` (when not null) gets the first difference.
+bool sameSceneSettings(const SceneRecord& a, const SceneRecord& b, std::string* why = nullptr);
+/// The scene's record after a shard: `kept`'s reference (spp, error, seconds), the largest count
+/// of either, extra and run seconds summed (the scene's total over its shards), and the shards'
+/// dates, machines and commands listed (" + " between dates and machines, " ; " between commands),
+/// each once.
+SceneRecord joinShardRecord(const SceneRecord& kept, const SceneRecord& fresh);
+/// Sampler shards: `kept` without the rows of the (scene, sampler) pairs in `fresh`, then `fresh`,
+/// in studyScenes() order, each scene's rows in their order.
+std::vector<SceneMeasurement> mergeSamplerShard(const std::vector<SceneMeasurement>& kept,
+                                                const std::vector<SceneMeasurement>& fresh);
 
 /// The markdown section (STUDY.md's scene part) from the data alone: every table, goal and verdict
 /// from `measurements` of the scenes in `records` (other scenes' rows are ignored), for `samplers`.

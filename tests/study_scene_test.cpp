@@ -3,7 +3,9 @@
 // study and cost run on the Vulkan device with the validation layer on.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -11,6 +13,7 @@
 
 #include "cost_study.hpp"
 #include "gpu_test_support.hpp"
+#include "image/image.hpp"
 #include "scene_study.hpp"
 #include "stats.hpp"
 
@@ -328,7 +331,7 @@ TEST(StudyShards, TheSectionSaysHowEachSceneWasMeasured)
     const std::vector<SamplerSpec> samplers = {specOf("Random"), specOf("Sobol"), specOf("CMJ2D-pad")};
     auto full = recordOf("cornell7d", "full mode"), reduced = recordOf("interior_deep", "reduced settings: see the command");
     const std::string mixed = sceneSection({full, reduced}, ms, samplers);
-    EXPECT_NE(mixed.find("**not every scene is from the full mode**"), std::string::npos);
+    EXPECT_NE(mixed.find("**not every scene is from the full mode with every sampler**"), std::string::npos);
     EXPECT_EQ(mixed.find("- Mode: full mode for every scene"), std::string::npos);
     EXPECT_NE(mixed.find("`build/oas-study --parts scenes --scene cornell7d` (full mode)"), std::string::npos);
     EXPECT_NE(mixed.find("`build/oas-study --parts scenes --scene interior_deep` (reduced settings: see the command)"),
@@ -376,6 +379,85 @@ TEST(StudyShards, ThePaperCountTableNamesSamplersWithoutANearCount)
     // With every sampler near 4096 there is nothing to name.
     const std::vector<SamplerSpec> two = {specOf("Random"), specOf("CMJ2D-pad")};
     EXPECT_EQ(sceneSection({rec}, ms, two).find("No row for"), std::string::npos);
+}
+
+TEST(StudyShards, SamplerShardsJoinOnlyWithTheSameSettings)
+{
+    const auto kept = recordOf("interior_deep", "full mode");
+    auto fresh = kept;
+    fresh.date = "2026-12-02 08:00 UTC";
+    fresh.command = "oas-study --parts scenes --scene interior_deep --only Sobol";
+    fresh.machine = "another CPU";
+    fresh.runSeconds = 100;
+    fresh.extraSeconds = 30;
+    fresh.refErr = 9e-3;  // a shard that joins renders no reference: kept's stays
+    std::string why;
+    EXPECT_TRUE(sameSceneSettings(kept, fresh, &why)) << why;  // dates, machines, commands may differ
+    for (int field = 0; field < 6; ++field) {
+        auto other = fresh;
+        const char* expect[] = {"size", "crop", "reference", "spp ladder", "renders per point", "mode"};
+        if (field == 0) other.height = 25;
+        if (field == 1) other.crop.x = 9;
+        if (field == 2) other.referenceSpp = 8192;
+        if (field == 3) other.maxSpp = 512;
+        if (field == 4) other.maxTrials = 64;
+        if (field == 5) other.modeLabel = "quick mode";
+        why.clear();
+        EXPECT_FALSE(sameSceneSettings(kept, other, &why)) << field;
+        EXPECT_EQ(why.rfind(expect[field], 0), 0u) << why;
+    }
+
+    const SceneRecord joined = joinShardRecord(kept, fresh);
+    EXPECT_DOUBLE_EQ(joined.refErr, kept.refErr);
+    EXPECT_DOUBLE_EQ(joined.refSeconds, kept.refSeconds);
+    EXPECT_DOUBLE_EQ(joined.runSeconds, 321 + 100);
+    EXPECT_DOUBLE_EQ(joined.extraSeconds, 120 + 30);
+    EXPECT_EQ(joined.date, "2026-12-01 12:00 UTC + 2026-12-02 08:00 UTC");
+    EXPECT_EQ(joined.machine, "test CPU, with a comma + another CPU");
+    EXPECT_EQ(joined.command, kept.command + " ; " + fresh.command);
+    // A third shard on the same day and machine lists them once each.
+    auto third = fresh;
+    third.command = "oas-study --parts scenes --scene interior_deep --only Random";
+    const SceneRecord again = joinShardRecord(joined, third);
+    EXPECT_EQ(again.date, joined.date);
+    EXPECT_EQ(again.machine, joined.machine);
+    EXPECT_EQ(again.command, joined.command + " ; " + third.command);
+
+    // Only the shard's (scene, sampler) rows are replaced; other samplers and scenes are kept.
+    auto rows = measurementsOf("interior_deep", "Random", 1e-2);
+    for (const auto& m : measurementsOf("interior_deep", "Sobol", 5e-3)) rows.push_back(m);
+    for (const auto& m : measurementsOf("cornell7d", "Sobol", 5e-3)) rows.push_back(m);
+    auto redo = measurementsOf("interior_deep", "Sobol", 4e-3);
+    const auto merged = mergeSamplerShard(rows, redo);
+    ASSERT_EQ(merged.size(), 18u);
+    for (size_t i = 0; i < 6; ++i) EXPECT_EQ(merged[i].scene, "cornell7d");  // study order: cornell7d first
+    for (size_t i = 6; i < 12; ++i) EXPECT_EQ(merged[i].sampler, "Random");
+    for (size_t i = 12; i < 18; ++i) {
+        EXPECT_EQ(merged[i].sampler, "Sobol");
+        EXPECT_DOUBLE_EQ(merged[i].relMse, redo[i - 12].relMse);
+    }
+}
+
+TEST(StudyShards, TheSectionNamesTheSamplersAShardedSceneLacks)
+{
+    std::vector<SceneMeasurement> ms;
+    for (const std::string sampler : {"Random", "Sobol"})
+        for (const auto& m : measurementsOf("interior_deep", sampler, sampler == "Random" ? 1e-2 : 4e-3)) ms.push_back(m);
+    const std::vector<SamplerSpec> samplers = {specOf("Random"), specOf("Sobol"), specOf("CMJ2D-pad")};
+    const std::string md = sceneSection({recordOf("interior_deep", "full mode")}, ms, samplers);
+    EXPECT_NE(md.find("**interior_deep has 2 of the 3 samplers so far** (sampler shards); not yet measured, so absent "
+                      "from its tables: CMJ2D-pad."),
+              std::string::npos);
+    // A full-mode record with a sampler missing is not "full mode for every scene".
+    EXPECT_EQ(md.find("full mode for every scene"), std::string::npos);
+    const std::string complete = sceneSection({recordOf("interior_deep", "full mode")}, ms, {specOf("Random"), specOf("Sobol")});
+    EXPECT_EQ(complete.find("so far"), std::string::npos);
+    EXPECT_NE(complete.find("full mode for every scene"), std::string::npos);
+    // A joined record's commands each get their own code span.
+    auto rec = recordOf("interior_deep", "full mode");
+    rec.command = "oas-study --only Random ; oas-study --only Sobol";
+    EXPECT_NE(sceneSection({rec}, ms, samplers).find("`build/oas-study --only Random` then `build/oas-study --only Sobol`"),
+              std::string::npos);
 }
 
 class StudyGpu : public oas::test::GpuTest {};
@@ -469,4 +551,71 @@ TEST_F(StudyGpu, TinyCostRunMeasuresEverySampler)
     ASSERT_EQ(rows.size(), 3u);
     EXPECT_NE(rows[2].find("bose q=11"), std::string::npos);  // 121 spp: the count nearest 128
     EXPECT_NE(md.find("| BoseCMJ |"), std::string::npos);
+}
+
+TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
+{
+    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_sampler_shards";
+    std::filesystem::remove_all(dir);
+    SceneStudyOptions o;
+    o.scenesDir = OAS_SCENES_DIR;
+    o.scenes = {"cornell7d"};
+    o.width = 8;
+    o.minSpp = 16;
+    o.maxSpp = 128;  // the equal-time budget is Sobol at 128
+    o.referenceSpp = 512;
+    o.minTrials = 2;
+    o.maxTrials = 2;
+    o.outDir = dir.string();
+    o.command = "first";
+    o.samplerShard = true;  // nothing to join yet: the scene starts, with its own reference
+    runSceneStudy(o, {specOf("Random"), specOf("Sobol")}, context());
+    const auto exr = dir / "scenes" / "cornell7d_reference.exr";
+    ASSERT_TRUE(std::filesystem::exists(exr));
+    const auto firstRecord = readSceneRecords((dir / "scene_references.csv").string()).at(0);
+    const auto firstRows = readSceneMeasurements((dir / "scenes.csv").string());
+    const oas::image::Image firstReference = oas::image::readExr(exr.string());
+
+    // Shard 2: Sobol again and CMJ2D-pad; Random's rows stay, Sobol's are replaced.
+    o.command = "second";
+    runSceneStudy(o, {specOf("Sobol"), specOf("CMJ2D-pad")}, context());
+    const auto record = readSceneRecords((dir / "scene_references.csv").string()).at(0);
+    EXPECT_EQ(record.command, "first ; second");
+    EXPECT_EQ(record.refErr, firstRecord.refErr);  // the same reference, not rendered again
+    EXPECT_EQ(record.refSeconds, firstRecord.refSeconds);
+    EXPECT_GT(record.runSeconds, firstRecord.runSeconds);
+    EXPECT_EQ(oas::image::readExr(exr.string()).rgba, firstReference.rgba);
+    const auto rows = readSceneMeasurements((dir / "scenes.csv").string());
+    std::map<std::string, size_t> count;
+    for (const auto& m : rows) ++count[m.sampler];
+    size_t randomRows = 0;
+    for (const auto& m : firstRows) randomRows += m.sampler == "Random";
+    EXPECT_EQ(count["Random"], randomRows);
+    EXPECT_EQ(count["Sobol"], 4u * 2u);      // 16 ... 128 x 2 renders
+    EXPECT_EQ(count["CMJ2D-pad"], 4u * 2u);
+    for (const auto& m : rows)
+        if (m.sampler == "Random")
+            EXPECT_TRUE(std::any_of(firstRows.begin(), firstRows.end(), [&](const SceneMeasurement& f) {
+                return f.sampler == "Random" && f.spp == m.spp && f.trial == m.trial && f.relMse == m.relMse;
+            }));
+    // Seeds come from the sampler's place in the study's list, not in the run's: Sobol, second in
+    // shard 1 and first in shard 2, renders the same images against the same reference.
+    for (const auto& m : rows)
+        if (m.sampler == "Sobol")
+            EXPECT_TRUE(std::any_of(firstRows.begin(), firstRows.end(), [&](const SceneMeasurement& f) {
+                return f.sampler == "Sobol" && f.spp == m.spp && f.trial == m.trial && f.relMseRaw == m.relMseRaw;
+            })) << m.spp << " " << m.trial;
+    // Equal-time rows: all three samplers (the budget is Sobol's), in table order.
+    const auto eq = lines((dir / "scene_equal_time.csv").string());
+    ASSERT_EQ(eq.size(), 4u);
+    EXPECT_EQ(eq[1].rfind("cornell7d,Random,", 0), 0u);
+    EXPECT_EQ(eq[3].rfind("cornell7d,Sobol,", 0), 0u);
+
+    // Other settings: the scene starts over, with only this shard's sampler.
+    o.maxTrials = 3;
+    o.command = "third";
+    runSceneStudy(o, {specOf("Random")}, context());
+    const auto restarted = readSceneRecords((dir / "scene_references.csv").string()).at(0);
+    EXPECT_EQ(restarted.command, "third");
+    for (const auto& m : readSceneMeasurements((dir / "scenes.csv").string())) EXPECT_EQ(m.sampler, "Random");
 }
