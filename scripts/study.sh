@@ -9,6 +9,8 @@
 # --parts scenes --scene cornell7d to (re)measure one scene and merge it with the others (shards),
 # or --parts scenes --scene interior_deep --only Random Sobol BoseCMJ to measure some of a scene's
 # samplers against its kept reference (sampler shards, for a scene longer than one run).
+# cornell7d's four light-corner pixels get their share of the error from many CPU renders of just
+# those pixels (--scene-rare-pixels, --scene-max-rare-renders).
 # Plots need Debian's python3-matplotlib, installed here when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."

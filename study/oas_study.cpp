@@ -211,7 +211,8 @@ int main(int argc, char** argv)
     std::vector<std::string> parts = {"analytic", "pairs", "spectra", "cost", "scenes"}, sceneNames;
     std::string scenesDir = "scenes";
     std::uint32_t sceneWidth = 0, sceneMaxSpp = 0, sceneMinTrials = 0, sceneMaxTrials = 0, referenceSpp = 0;
-    std::int64_t scenePaperSpp = -1;
+    std::int64_t scenePaperSpp = -1, sceneRarePixels = -1;
+    std::uint32_t sceneMaxRareRenders = 0;
     double sceneRelSe = 0.1, sceneExtraSeconds = -1;
     app.add_option("--parts", parts, "parts to run: analytic pairs spectra cost scenes (default: all), or none (only reassemble "
                                      "the scene section from its data files, STUDY.md, and redraw); STUDY.md is assembled from every part's section in the "
@@ -237,6 +238,13 @@ int main(int argc, char** argv)
         ->check(CLI::Range(0.0, 1e6));
     app.add_option("--scene-rel-se", sceneRelSe, "target standard error ÷ mean of every scene relMSE (0.1)")
         ->check(CLI::Range(0.001, 1.0));
+    app.add_option("--scene-rare-pixels", sceneRarePixels,
+                   "pixels per scene whose share of the relMSE is estimated apart, from many renders of just those "
+                   "pixels on the CPU (default: cornell7d 4, its light's corners; the others 0)")
+        ->check(CLI::Range(0, 4096));
+    app.add_option("--scene-max-rare-renders", sceneMaxRareRenders,
+                   "most renders of the rare pixels per point (quick 1024, full 16384)")
+        ->check(CLI::Range(32u, 1u << 20));
     app.add_option("--reference-spp", referenceSpp, "scene reference spp (default: 16 x the scene's largest count)")
         ->check(CLI::Range(256u, 1u << 24));
     app.add_flag("--no-plot", noPlot, "do not run study/plot.py afterwards");
@@ -621,7 +629,7 @@ int main(int argc, char** argv)
             // Choosing scenes (--scene, a shard) keeps the full mode: each scene's record carries its own
             // mode, and the section says "full mode for every scene" only when every record does.
             const bool customScenes = sceneWidth || sceneMaxSpp || sceneMinTrials || sceneMaxTrials || referenceSpp ||
-                                      scenePaperSpp >= 0 || sceneExtraSeconds >= 0;
+                                      scenePaperSpp >= 0 || sceneExtraSeconds >= 0 || sceneRarePixels >= 0 || sceneMaxRareRenders;
             so.modeLabel = quick ? "quick mode" : customScenes ? "reduced settings: see the command" : "full mode";
             so.scenesDir = scenesDir;
             so.scenes = sceneNames;
@@ -641,6 +649,8 @@ int main(int argc, char** argv)
             // match. The default extra budget is split by the shard's share of the samplers, so that a
             // scene's shards together spend the full mode's 300 s.
             so.samplerShard = !only.empty();
+            so.rarePixels = sceneRarePixels;
+            so.maxRareRenders = sceneMaxRareRenders ? sceneMaxRareRenders : (quick ? 1024u : 16384u);
             if (so.samplerShard && sceneExtraSeconds < 0 && !quick)
                 so.extraSecondsPerScene = 300.0 * double(samplers.size()) / double(studySamplers().size());
             // Quick mode: a subset of samplers, to keep it to minutes (one path-tracing pipeline per

@@ -138,7 +138,7 @@ std::string slug(std::string s)
 std::vector<SceneCase> studyScenes()
 {
     return {
-        {"cornell7d.json", 0.5, 0.5, 0.5, 0.5, "the moving, defocused sphere and its shadow (lower right quarter)", true},
+        {"cornell7d.json", 0.5, 0.5, 0.5, 0.5, "the moving, defocused sphere and its shadow (lower right quarter)", true, 4},
         {"blue_spheres9d.json", 0.0, 0.3, 0.55, 0.45, "the defocused, moving spheres on the left", true},
         {"interior_deep.json", 0.25, 0.35, 0.5, 0.4, "the table and rug lit indirectly (centre)", false},
     };
@@ -181,6 +181,95 @@ double worstPixelsContribution(std::vector<double> e, double fraction)
     return top / double(e.size());
 }
 
+std::vector<std::uint32_t> rarePixelsOf(const oas::image::Image& a, const oas::image::Image& b,
+                                        const oas::image::Image& reference, std::uint32_t k, double eps)
+{
+    if (a.width != reference.width || a.height != reference.height || b.width != reference.width ||
+        b.height != reference.height)
+        throw std::invalid_argument("rarePixelsOf: images differ in size");
+    std::vector<double> d(reference.pixelCount());
+    for (std::size_t p = 0; p < d.size(); ++p) {
+        double sum = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double x = a.rgba[4 * p + c] - b.rgba[4 * p + c], r = reference.rgba[4 * p + c];
+            sum += x * x / (r * r + eps);
+        }
+        d[p] = sum / 3;
+    }
+    std::vector<std::uint32_t> order(d.size());
+    for (std::uint32_t p = 0; p < order.size(); ++p) order[p] = p;
+    const std::size_t n = std::min<std::size_t>(k, order.size());
+    // Largest first; ties by pixel index, so that the choice does not depend on the sort.
+    std::partial_sort(order.begin(), order.begin() + n, order.end(),
+                      [&](std::uint32_t x, std::uint32_t y) { return d[x] > d[y] || (d[x] == d[y] && x < y); });
+    order.resize(n);
+    return order;
+}
+
+std::string formatPixels(const std::vector<std::uint32_t>& pixels, std::uint32_t width)
+{
+    std::string out;
+    for (auto p : pixels)
+        out += (out.empty() ? "" : " ") + std::to_string(p % width) + ":" + std::to_string(p / width);
+    return out;
+}
+
+std::vector<std::uint32_t> parsePixels(const std::string& text, std::uint32_t width, std::uint32_t height)
+{
+    std::vector<std::uint32_t> out;
+    std::istringstream in(text);
+    for (std::string item; in >> item;) {
+        unsigned long x = 0, y = 0;
+        char* end = nullptr;
+        const size_t colon = item.find(':');
+        bool ok = colon != std::string::npos && colon > 0 && colon + 1 < item.size() &&
+                  std::isdigit(static_cast<unsigned char>(item[0])) &&
+                  std::isdigit(static_cast<unsigned char>(item[colon + 1]));
+        if (ok) {
+            x = std::strtoul(item.c_str(), &end, 10);
+            ok = end == item.c_str() + colon;
+        }
+        if (ok) {
+            y = std::strtoul(item.c_str() + colon + 1, &end, 10);
+            ok = end == item.c_str() + item.size();
+        }
+        if (!ok || x >= width || y >= height)
+            throw std::invalid_argument("rare pixels: \"" + item + "\" is not x:y inside the " + std::to_string(width) +
+                                        "x" + std::to_string(height) + " image");
+        out.push_back(std::uint32_t(y * width + x));
+    }
+    return out;
+}
+
+double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render::DimensionPlan& plan,
+                          const oas::Pattern& pattern, const std::vector<std::uint32_t>& pixels, std::uint32_t spp,
+                          std::uint32_t seed, const oas::image::Image& reference, std::vector<float>& scratch, double eps)
+{
+    oas::image::checkLayout(reference, "rarePixelsShareCpu: reference");
+    scratch.assign(reference.rgba.size(), 0.0f);
+    double share = 0;
+    for (auto pix : pixels) {
+        if (pix >= reference.pixelCount()) throw std::invalid_argument("rarePixelsShareCpu: pixel outside the reference");
+        oas::render::SampleBatch b;
+        b.x0 = pix % reference.width;
+        b.y0 = pix / reference.width;
+        b.width = b.height = 1;
+        b.firstSample = 0;
+        b.count = spp;
+        b.seed = seed;
+        oas::render::traceCpu(data, plan, pattern, b, scratch, 1);
+        // As imageFromAccumulation and pixelRelErrors compute it from a GPU render.
+        const float* px = scratch.data() + 4 * std::size_t(pix);
+        double e = 0;
+        for (int c = 0; c < 3; ++c) {
+            const double v = double(px[c] / std::max(px[3], 1.0f)), r = reference.rgba[4 * pix + c];
+            e += (v - r) * (v - r) / (r * r + eps);
+        }
+        share += e / 3;
+    }
+    return share / double(reference.pixelCount());
+}
+
 std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements, double relSeTarget)
 {
     std::vector<SceneCurve> curves;
@@ -200,17 +289,31 @@ std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measuremen
         c.scene = key.first;
         c.sampler = key.second;
         for (const auto& [spp, ms] : by[key]) {
-            std::vector<double> t, e, ec, rest, worst;
+            std::vector<double> t, e, ec, rest, worst, withoutRare, rare;
             for (auto* m : ms) {
+                if (m->rareOnly) {
+                    rare.push_back(m->relMseRare);
+                    continue;
+                }
                 t.push_back(m->seconds);
                 e.push_back(m->relMse);
                 ec.push_back(m->relMseCrop);
                 rest.push_back(m->relMse - m->relMseWorst);
                 worst.push_back(m->relMseWorst);
+                withoutRare.push_back(m->relMse - m->relMseRare);
             }
+            if (t.empty()) continue;  // rare-pixel rows without their image renders: no point
+            Estimate full = estimateOf(e);
+            if (!rare.empty()) {
+                // The stratified sum (independent renders): its n is the image renders'.
+                const Estimate a = estimateOf(withoutRare), b = estimateOf(rare);
+                full.mean = a.mean + b.mean;
+                full.se = std::sqrt(a.se * a.se + b.se * b.se);
+            }
+            c.rareRenders.push_back(std::uint32_t(rare.size()) * kRareBatch);
             c.spp.push_back(spp);
             c.seconds.push_back(median(t));
-            c.relMseE.push_back(mark(estimateOf(e)));
+            c.relMseE.push_back(mark(full));
             c.relMseCropE.push_back(mark(estimateOf(ec)));
             c.relMseRestE.push_back(mark(estimateOf(rest)));
             c.worstE.push_back(mark(estimateOf(worst)));
@@ -228,13 +331,21 @@ const std::vector<std::string> kEqualTimeColumns = {"scene", "sampler", "spp", "
 
 const std::vector<std::string> kMeasurementColumns = {"scene",          "sampler",      "pattern",          "spp",
                                                       "trial",          "seconds",      "rel_mse",          "rel_mse_crop",
-                                                      "rel_mse_raw",    "rel_mse_crop_raw", "rel_mse_worst"};
+                                                      "rel_mse_raw",    "rel_mse_crop_raw", "rel_mse_worst",
+                                                      "rel_mse_rare",   "rare_only"};
 
 const std::vector<std::string> kRecordColumns = {
     "scene",     "width",     "height",       "dims",        "reference_sampler", "reference_spp", "ref_rel_mse",
     "ref_rel_mse_crop", "seconds", "crop_x", "crop_y",       "crop_w",      "crop_h",            "largest_spp",
     "device",    "machine",   "date",         "command",     "mode",              "min_spp",       "max_spp",
-    "paper_spp", "min_renders", "max_renders", "rel_se_target", "extra_seconds", "run_seconds"};
+    "paper_spp", "min_renders", "max_renders", "rel_se_target", "extra_seconds", "run_seconds",
+    "rare_count", "rare_pixels"};
+
+/// Whether the file has column `name` (columns added later are optional: older files lack them).
+bool hasColumn(const CsvRows& t, const std::string& name)
+{
+    return std::find(t.header.begin(), t.header.end(), name) != t.header.end();
+}
 
 /// Cell `name` of `row` as a number: the whole cell must parse (strtod), else the error names the
 /// file, the data row and the column.
@@ -325,14 +436,14 @@ void writeCurves(const std::string& path, const std::vector<SceneCurve>& curves)
 {
     CsvTable curveCsv({"scene", "sampler", "spp", "seconds", "rel_mse", "rel_mse_crop", "n", "rel_mse_se",
                        "rel_mse_crop_se", "capped", "rel_mse_without_worst", "rel_mse_without_worst_se",
-                       "rel_mse_worst", "rel_mse_worst_se"});
+                       "rel_mse_worst", "rel_mse_worst_se", "rare_renders"});
     for (const auto& c : curves)
         for (size_t i = 0; i < c.spp.size(); ++i)
             curveCsv.add({c.scene, c.sampler, fmtG(c.spp[i]), fmtG(c.seconds[i]), fmtG(c.relMse[i]),
                           fmtG(c.relMseCrop[i]), std::to_string(c.relMseE[i].n), fmtG(c.relMseE[i].se),
                           fmtG(c.relMseCropE[i].se), c.relMseE[i].capped || c.relMseCropE[i].capped ? "1" : "0",
                           fmtG(c.relMseRestE[i].mean), fmtG(c.relMseRestE[i].se), fmtG(c.worstE[i].mean),
-                          fmtG(c.worstE[i].se)});
+                          fmtG(c.worstE[i].se), std::to_string(c.rareRenders[i])});
     curveCsv.write(path);
 }
 
@@ -348,7 +459,7 @@ void writeSceneRecords(const std::string& path, const std::vector<SceneRecord>& 
                std::to_string(r.largestSpp), r.device, r.machine, r.date, r.command, r.modeLabel,
                std::to_string(r.minSpp), std::to_string(r.maxSpp), std::to_string(r.paperHighSpp),
                std::to_string(r.minTrials), std::to_string(r.maxTrials), fmtG(r.relSeTarget), fmtG(r.extraSeconds),
-               fmtG(r.runSeconds)});
+               fmtG(r.runSeconds), std::to_string(r.rareCount), r.rarePixels});
     t.write(path);
 }
 
@@ -386,10 +497,17 @@ std::vector<SceneRecord> readSceneRecords(const std::string& path)
         r.relSeTarget = num("rel_se_target");
         r.extraSeconds = num("extra_seconds");
         r.runSeconds = num("run_seconds");
+        if (hasColumn(t, "rare_count")) r.rareCount = cnt("rare_count");
+        if (hasColumn(t, "rare_pixels")) r.rarePixels = text("rare_pixels");
         if (r.name.empty() || r.width == 0 || r.height == 0 || r.crop.w == 0 || r.crop.h == 0 ||
             r.crop.x + r.crop.w > r.width || r.crop.y + r.crop.h > r.height || !(r.relSeTarget > 0))
             throw std::runtime_error(path + ": row " + std::to_string(i + 1) +
                                      ": the scene name, size, crop (inside the image) or s.e. target is invalid");
+        try {
+            parsePixels(r.rarePixels, r.width, r.height);
+        } catch (const std::invalid_argument& e) {
+            throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ", column \"rare_pixels\": " + e.what());
+        }
         if (std::any_of(out.begin(), out.end(), [&](const SceneRecord& o) { return o.name == r.name; }))
             throw std::runtime_error(path + ": scene \"" + r.name + "\" appears twice");
         out.push_back(std::move(r));
@@ -402,7 +520,8 @@ void writeSceneMeasurements(const std::string& path, const std::vector<SceneMeas
     CsvTable csv(kMeasurementColumns);
     for (const auto& m : measurements)
         csv.add({m.scene, m.sampler, m.pattern, std::to_string(m.spp), std::to_string(m.trial), fmtG(m.seconds),
-                 fmtG(m.relMse), fmtG(m.relMseCrop), fmtG(m.relMseRaw), fmtG(m.relMseCropRaw), fmtG(m.relMseWorst)});
+                 fmtG(m.relMse), fmtG(m.relMseCrop), fmtG(m.relMseRaw), fmtG(m.relMseCropRaw), fmtG(m.relMseWorst),
+                 fmtG(m.relMseRare), m.rareOnly ? "1" : "0"});
     csv.write(path);
 }
 
@@ -425,6 +544,14 @@ std::vector<SceneMeasurement> readSceneMeasurements(const std::string& path)
         m.relMseRaw = num("rel_mse_raw");
         m.relMseCropRaw = num("rel_mse_crop_raw");
         m.relMseWorst = num("rel_mse_worst");
+        if (hasColumn(t, "rel_mse_rare")) m.relMseRare = num("rel_mse_rare");
+        if (hasColumn(t, "rare_only")) {
+            const std::uint32_t flag = count(t, row, "rare_only", path, i);
+            if (flag > 1)
+                throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ", column \"rare_only\": " +
+                                         std::to_string(flag) + " is not 0 or 1");
+            m.rareOnly = flag == 1;
+        }
         if (m.spp == 0 || !(m.seconds >= 0))
             throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ": spp must be >= 1 and seconds >= 0");
         out.push_back(std::move(m));
@@ -473,6 +600,7 @@ bool sameSceneSettings(const SceneRecord& a, const SceneRecord& b, std::string* 
              differs("renders per point", std::to_string(a.minTrials) + "-" + std::to_string(a.maxTrials),
                      std::to_string(b.minTrials) + "-" + std::to_string(b.maxTrials)) ||
              differs("s.e. target", num(a.relSeTarget), num(b.relSeTarget)) || differs("mode", a.modeLabel, b.modeLabel) ||
+             differs("rare pixels", std::to_string(a.rareCount), std::to_string(b.rareCount)) ||
              differs("device", a.device, b.device));
 }
 
@@ -495,6 +623,7 @@ SceneRecord joinShardRecord(const SceneRecord& kept, const SceneRecord& fresh)
     r.refErr = kept.refErr;
     r.refErrCrop = kept.refErrCrop;
     r.refSeconds = kept.refSeconds;
+    r.rarePixels = kept.rarePixels;  // chosen with the reference
     r.largestSpp = std::max(kept.largestSpp, fresh.largestSpp);
     r.extraSeconds = kept.extraSeconds + fresh.extraSeconds;
     r.runSeconds = kept.runSeconds + fresh.runSeconds;
@@ -595,6 +724,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         info.maxTrials = std::max(o.minTrials, o.maxTrials);
         info.relSeTarget = o.relSeTarget;
         info.extraSeconds = o.extraSecondsPerScene;
+        info.rareCount = std::uint32_t(o.rarePixels >= 0 ? o.rarePixels : sc.rarePixels);
         info.name = scene.name;
         info.width = scene.width;
         info.height = scene.height;
@@ -680,6 +810,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                          info.name.c_str(), scene.width, scene.height, plan.usedDims, refExr.c_str(), kept->referenceSpp);
             info.refErr = kept->refErr;
             info.refErrCrop = kept->refErrCrop;
+            info.rarePixels = kept->rarePixels;
         } else {
             // Reference: Owen-scrambled Sobol, two independent halves. For independent renders A and
             // B of equal variance, E relMSE(A, B) = 2 var(half) and the average's variance is
@@ -697,6 +828,10 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             info.refErr = oas::image::compare(a.image, b.image).relMse / 4;
             info.refErrCrop = oas::image::compare(a.image, b.image, info.crop).relMse / 4;
             info.refSeconds = a.seconds + b.seconds;
+            // The rare pixels: where the halves disagree most, relative to the value (independent
+            // of every measured render, which all have other seeds).
+            if (info.rareCount)
+                info.rarePixels = formatPixels(rarePixelsOf(a.image, b.image, reference, info.rareCount), info.width);
             oas::image::writePngPreview(imgDir + "/" + info.name + "_reference.png", reference);
             // Kept for later sampler shards of the scene (exact floats: the same relMSE for each).
             oas::image::writeExr(refExr, reference, {{"oas.scene", info.name}, {"oas.reference_spp", std::to_string(referenceSpp)}});
@@ -718,7 +853,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         ao.relTarget = o.relSeTarget;
         std::uint32_t lastSampler = ~0u;
         const size_t firstOfScene = all.size();
-        budgetedMeans(
+        const std::vector<std::uint32_t> rare = parsePixels(info.rarePixels, info.width, info.height);
+        const auto results = budgetedMeans(
             points.size(),
             [&](std::size_t p, std::uint32_t t) {
                 const Point& pt = points[p];
@@ -742,12 +878,63 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 m.relMseCropRaw = oas::image::compare(r.image, reference, info.crop).relMse;
                 m.relMse = m.relMseRaw - info.refErr;
                 m.relMseCrop = m.relMseCropRaw - info.refErrCrop;
-                m.relMseWorst = worstPixelsContribution(pixelRelErrors(r.image, reference));
+                const std::vector<double> pixelErrors = pixelRelErrors(r.image, reference);
+                for (auto p : rare) m.relMseRare += pixelErrors[p] / double(pixelErrors.size());
+                m.relMseWorst = worstPixelsContribution(pixelErrors);
                 all.push_back(m);
                 if (t == 0) images[{s.label, pt.spp}] = r.image;
-                return CostedDraw{{m.relMse, m.relMseCrop}, r.seconds};
+                // With the rare-pixel split the renders target the rest of the image; the rare
+                // pixels' share gets its own renders below.
+                return CostedDraw{{rare.empty() ? m.relMse : m.relMse - m.relMseRare, m.relMseCrop}, r.seconds};
             },
             2, ao, o.extraSecondsPerScene);
+        if (!rare.empty()) {
+            std::fprintf(stderr, "  %s: rare pixels %s on the CPU (%.0f s so far)\n", info.name.c_str(), info.rarePixels.c_str(),
+                         std::chrono::duration<double>(Clock::now() - t0).count());
+            for (std::size_t p = 0; p < points.size(); ++p) {
+                const Point& pt = points[p];
+                const SamplerSpec& s = samplers[pt.sampler];
+                // Batches of kRareBatch renders of the rare pixels, until the stratified sum's s.e.
+                // (curvesOf) is below the target, at least 2 batches, at most maxRareRenders.
+                const Estimate restE = results[p][0].estimate;
+                std::vector<double> batches;
+                const std::uint32_t maxBatches = std::max(2u, o.maxRareRenders / kRareBatch);
+                while (batches.size() < maxBatches) {
+                    if (batches.size() >= 2) {
+                        const Estimate b = estimateOf(batches);
+                        const double se = std::sqrt(restE.se * restE.se + b.se * b.se), mean = restE.mean + b.mean;
+                        if (se <= o.relSeTarget * std::abs(mean)) break;
+                    }
+                    const std::uint32_t batch = std::uint32_t(batches.size());
+                    const auto start = Clock::now();
+                    std::vector<double> shares(kRareBatch, 0.0);
+                    std::atomic<std::uint32_t> next{0};
+                    std::vector<std::thread> pool;
+                    for (unsigned w = 0; w < std::max(1u, std::thread::hardware_concurrency()); ++w)
+                        pool.emplace_back([&] {
+                            std::vector<float> scratch;
+                            for (std::uint32_t j; (j = next++) < kRareBatch;) {
+                                // Render seeds beyond any image render's trial (< 2^16), one per render.
+                                const std::uint32_t seed =
+                                    mixSeed(si, seedIndex(pt.sampler), pt.spp, 65536u + batch * kRareBatch + j);
+                                shares[j] = rarePixelsShareCpu(data, plan, *pt.pattern, rare, pt.spp, seed, reference, scratch);
+                            }
+                        });
+                    for (auto& th : pool) th.join();
+                    SceneMeasurement m;
+                    m.scene = info.name;
+                    m.sampler = s.label;
+                    m.pattern = oas::describe(*pt.pattern);
+                    m.spp = pt.spp;
+                    m.trial = 65536u + batch;
+                    m.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+                    m.rareOnly = true;
+                    for (double v : shares) m.relMseRare += v / kRareBatch;
+                    all.push_back(m);
+                    batches.push_back(m.relMseRare);
+                }
+            }
+        }
         std::fprintf(stderr, "  %s done (%.0f s so far)\n", info.name.c_str(),
                      std::chrono::duration<double>(Clock::now() - t0).count());
         info.runSeconds = std::chrono::duration<double>(Clock::now() - sceneStart).count();
@@ -955,6 +1142,21 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
            << " | " << info.minTrials << " to " << info.maxTrials << " | " << fmtG(info.extraSeconds) << " | "
            << fmtF(100 * info.relSeTarget, 0) << "% | " << fmtF(info.runSeconds, 0) << " s |\n";
     md << "\n";
+    // The rare-pixel split, where a scene used it (SceneStudyOptions::rarePixels).
+    for (const auto& info : infos) {
+        if (!info.rareCount) continue;
+        std::uint32_t lo = ~0u, hi = 0;
+        for (const auto& c : curves)
+            if (c.scene == info.name)
+                for (auto m : c.rareRenders) lo = std::min(lo, m), hi = std::max(hi, m);
+        md << "**" << info.name << ": rare-pixel split.** Its " << info.rareCount << " pixels whose two reference halves "
+           << "differ most relative to their value (" << info.rarePixels << ") are estimated apart: each full-image "
+           << "relMSE is the mean over the n image renders of the relMSE without those pixels, plus the mean of those "
+           << "pixels' share over " << (hi ? std::to_string(lo) + "–" + std::to_string(hi) : std::string("no"))
+           << " further renders of just those pixels per point (the same samples and estimator, traced on the CPU, "
+           << "their own seeds), s.e. = √(s.e.₁² + s.e.₂²); n in the tables counts the image renders. "
+           << "The crop, worst-pixel and time figures are from the image renders alone.\n\n";
+    }
     // A scene measured in sampler shards that are not all in yet says which samplers it lacks.
     for (const auto& info : infos) {
         const auto missing = missingSamplers(info.name);

@@ -12,6 +12,9 @@
 #include "stats.hpp"
 #include "vk/context.hpp"
 #include "image/metrics.hpp"
+#include "oas/pattern.hpp"
+#include "render/plan.hpp"
+#include "render/scene_data.hpp"
 
 namespace oas::study {
 
@@ -21,6 +24,9 @@ struct SceneCase {
     double cropX, cropY, cropW, cropH;
     std::string cropWhat;
     bool paperHighCount = false;  ///< also rendered at the paper's 3969/4096 spp (the 7D and 9D scenes)
+    /// Rare pixels estimated apart (SceneStudyOptions::rarePixels) unless the run sets another
+    /// number: cornell7d 4 (0.1% of its 64 × 64 pixels; its light's corners), the others 0.
+    std::uint32_t rarePixels = 0;
 };
 
 /// cornell7d, blue_spheres9d and interior_deep, with their crops.
@@ -61,6 +67,15 @@ struct SceneStudyOptions {
     /// joins the record (joinShardRecord). Otherwise the scene starts over: a new reference, and the
     /// scene's earlier rows are dropped (a note says why).
     bool samplerShard = false;
+    /// Rare pixels: with k > 0 (per scene: SceneCase::rarePixels), the scene's k pixels whose two reference halves disagree most
+    /// (relative to the value: rarePixelsOf) are estimated apart, for scenes like cornell7d whose
+    /// error is mostly a few pixels that see a light in ~0.1% of their samples. Each point's
+    /// full-image relMSE is then the mean over its renders of the relMSE without those pixels, plus
+    /// the mean of those pixels' share over many further renders of just those pixels, traced on the
+    /// CPU (traceCpu: the same samples, seeds and estimator as the GPU's), in batches of
+    /// kRareBatch, until the sum's s.e. is below relSeTarget or maxRareRenders (curvesOf).
+    std::int64_t rarePixels = -1;  ///< -1: each scene's SceneCase::rarePixels
+    std::uint32_t maxRareRenders = 16384;  ///< per point
 };
 
 /// One scene's run, a row of scene_references.csv: its size, crop and reference, and the settings,
@@ -78,6 +93,8 @@ struct SceneRecord {
     std::string device, machine, date, command, modeLabel;
     std::uint32_t minSpp = 0, maxSpp = 0, paperHighSpp = 0, minTrials = 0, maxTrials = 0;
     double relSeTarget = 0.1, extraSeconds = 0, runSeconds = 0;  ///< runSeconds: the scene's share of its run
+    std::uint32_t rareCount = 0;  ///< SceneStudyOptions::rarePixels (0: no rare-pixel split)
+    std::string rarePixels;       ///< the chosen pixels, "x:y x:y ..." (formatPixels)
 };
 
 /// One render's measurement.
@@ -90,7 +107,34 @@ struct SceneMeasurement {
     /// The part of relMseRaw that comes from the render's worst pixels (the top 0.1% by their
     /// relative squared error, at least one pixel): relMse − relMseWorst is the rest of the image.
     double relMseWorst = 0;
+    /// Rare-pixel split (SceneStudyOptions::rarePixels): the part of relMseRaw from the scene's
+    /// rare pixels. A row with rareOnly set is not a render of the image but the mean of
+    /// kRareBatch renders of the rare pixels alone (CPU, seconds = the batch's time): only its
+    /// relMseRare counts, and curvesOf adds those rows' mean to the other rows' relMse − relMseRare.
+    double relMseRare = 0;
+    bool rareOnly = false;
 };
+
+/// Renders of the rare pixels per rareOnly row.
+inline constexpr std::uint32_t kRareBatch = 16;
+
+/// The k pixel indices (y · width + x) with the largest mean over R, G, B of (A − B)² / (R² + eps)
+/// between two independent halves A and B of a reference R: the pixels whose estimate varies most
+/// relative to their value, largest first.
+std::vector<std::uint32_t> rarePixelsOf(const oas::image::Image& a, const oas::image::Image& b,
+                                        const oas::image::Image& reference, std::uint32_t k, double relEpsilon = 1e-2);
+/// The rare pixels' share of one render's relMSE, (1/P) Σ over `pixels` of the per-pixel error
+/// against `reference` (as pixelRelErrors), for the render of `spp` samples of `pattern` with
+/// render seed `seed`, traced on the CPU for just those pixels (traceCpu, one thread): the same
+/// number a full GPU render with that seed gives, up to float rounding. `scratch` is reused.
+double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render::DimensionPlan& plan,
+                          const oas::Pattern& pattern, const std::vector<std::uint32_t>& pixels, std::uint32_t spp,
+                          std::uint32_t seed, const oas::image::Image& reference, std::vector<float>& scratch,
+                          double relEpsilon = 1e-2);
+/// "x:y x:y ..." of pixel indices in a width-wide image, and back (throws std::invalid_argument
+/// naming the bad item and the image size for a malformed list or a pixel outside it).
+std::string formatPixels(const std::vector<std::uint32_t>& pixels, std::uint32_t width);
+std::vector<std::uint32_t> parsePixels(const std::string& text, std::uint32_t width, std::uint32_t height);
 
 /// Share of the worst pixels: fraction of the image (0.1%), at least one pixel.
 inline constexpr double kWorstPixelFraction = 0.001;
@@ -111,10 +155,15 @@ struct SceneCurve {
     std::vector<Estimate> relMseE, relMseCropE;
     std::vector<Estimate> relMseRestE;  ///< relMSE without each render's worst 0.1% of pixels
     std::vector<Estimate> worstE;       ///< the worst pixels' contribution
+    std::vector<std::uint32_t> rareRenders;  ///< renders of the rare pixels alone behind relMseE (0: no split)
 };
 
 /// Mean over trials (with s.e.) / median time per (scene, sampler, spp), in ladder order; `capped`
 /// marks each estimate whose s.e. is above relSeTarget × mean (the adaptive loop hit its cap).
+/// Time, crop, worst pixels and n come from the image renders only. Where a point has rareOnly
+/// rows, its full-image estimate is the stratified sum: mean(relMse − relMseRare) over the image
+/// renders plus mean(relMseRare) over the rareOnly rows, s.e. = √(s.e.₁² + s.e.₂²) (independent
+/// renders); without them, the mean of relMse.
 std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements, double relSeTarget = 0.1);
 
 /// scene_references.csv and scenes.csv: write, and read back (by column name; a file without one of

@@ -14,6 +14,10 @@
 #include "cost_study.hpp"
 #include "gpu_test_support.hpp"
 #include "image/image.hpp"
+#include "scene/scene.hpp"
+#include "render/tracer.hpp"
+#include "render/scene_data.hpp"
+#include "render/plan.hpp"
 #include "scene_study.hpp"
 #include "stats.hpp"
 
@@ -246,8 +250,12 @@ TEST(StudyShards, RecordsAndMeasurementsRoundTripThroughTheirFiles)
         EXPECT_DOUBLE_EQ(a.relSeTarget, b.relSeTarget);
         EXPECT_DOUBLE_EQ(a.extraSeconds, b.extraSeconds);
         EXPECT_DOUBLE_EQ(a.runSeconds, b.runSeconds);
+        EXPECT_EQ(a.rareCount, b.rareCount);
+        EXPECT_EQ(a.rarePixels, b.rarePixels);
     }
-    const auto ms = measurementsOf("cornell7d", "Random", 1e-2);
+    auto ms = measurementsOf("cornell7d", "Random", 1e-2);
+    ms[1].relMseRare = 3.5e-4;
+    ms[2].rareOnly = true;
     writeSceneMeasurements((dir / "m.csv").string(), ms);
     const auto msBack = readSceneMeasurements((dir / "m.csv").string());
     ASSERT_EQ(msBack.size(), ms.size());
@@ -257,7 +265,122 @@ TEST(StudyShards, RecordsAndMeasurementsRoundTripThroughTheirFiles)
         EXPECT_EQ(msBack[i].trial, ms[i].trial);
         EXPECT_NEAR(msBack[i].relMse, ms[i].relMse, 1e-5 * ms[i].relMse);  // 6 significant digits
         EXPECT_NEAR(msBack[i].relMseWorst, ms[i].relMseWorst, 1e-5 * ms[i].relMseWorst);
+        EXPECT_NEAR(msBack[i].relMseRare, ms[i].relMseRare, 1e-5 * ms[i].relMseRare);
+        EXPECT_EQ(msBack[i].rareOnly, ms[i].rareOnly);
     }
+}
+
+// The rare-pixel columns came later: files written before them read with the split off.
+TEST(StudyShards, FilesWithoutTheRarePixelColumnsStillRead)
+{
+    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_scene_old_files";
+    std::filesystem::create_directories(dir);
+    const std::string m = (dir / "m.csv").string(), r = (dir / "r.csv").string();
+    writeSceneMeasurements(m, measurementsOf("cornell7d", "Random", 1e-2));
+    writeSceneRecords(r, {recordOf("cornell7d", "full mode")});
+    // Drop the last two columns, as the files of 2026-12-02 and before are.
+    for (const auto& path : {m, r}) {
+        std::string out;
+        for (const auto& line : lines(path)) {
+            size_t cut = line.size();
+            for (int k = 0; k < 2; ++k) cut = line.rfind(',', cut - 1);
+            out += line.substr(0, cut) + "\n";
+        }
+        std::ofstream(path) << out;
+    }
+    const auto ms = readSceneMeasurements(m);
+    ASSERT_EQ(ms.size(), 6u);
+    for (const auto& x : ms) {
+        EXPECT_EQ(x.relMseRare, 0.0);
+        EXPECT_FALSE(x.rareOnly);
+    }
+    const auto rs = readSceneRecords(r);
+    ASSERT_EQ(rs.size(), 1u);
+    EXPECT_EQ(rs[0].rareCount, 0u);
+    EXPECT_EQ(rs[0].rarePixels, "");
+}
+
+TEST(StudyRare, PicksThePixelsWhoseHalvesDifferMostRelativeToTheirValue)
+{
+    oas::image::Image a(4, 2, 1, 1, 1), b(4, 2, 1, 1, 1);
+    // Pixel 5 (1, 1): halves 0 and 2 around a mean of 1, relative difference 2² / (1 + 0.01).
+    a.pixel(1, 1)[0] = a.pixel(1, 1)[1] = a.pixel(1, 1)[2] = 0;
+    b.pixel(1, 1)[0] = b.pixel(1, 1)[1] = b.pixel(1, 1)[2] = 2;
+    // Pixel 2 (2, 0): a larger absolute difference (10 vs 14) but a smaller relative one.
+    a.pixel(2, 0)[0] = a.pixel(2, 0)[1] = a.pixel(2, 0)[2] = 10;
+    b.pixel(2, 0)[0] = b.pixel(2, 0)[1] = b.pixel(2, 0)[2] = 14;
+    oas::image::Image ref(4, 2, 1, 1, 1);
+    for (size_t i = 0; i < ref.rgba.size(); ++i) ref.rgba[i] = 0.5f * (a.rgba[i] + b.rgba[i]);
+    EXPECT_EQ(rarePixelsOf(a, b, ref, 2), (std::vector<std::uint32_t>{5, 2}));
+    EXPECT_EQ(rarePixelsOf(a, b, ref, 1), (std::vector<std::uint32_t>{5}));
+    // Ties (every other pixel: no difference) go by index; k beyond the image gives every pixel.
+    EXPECT_EQ(rarePixelsOf(a, b, ref, 4), (std::vector<std::uint32_t>{5, 2, 0, 1}));
+    EXPECT_EQ(rarePixelsOf(a, b, ref, 100).size(), 8u);
+    EXPECT_THROW(rarePixelsOf(a, oas::image::Image(2, 2), ref, 1), std::invalid_argument);
+}
+
+TEST(StudyRare, PixelListsRoundTripAndBadOnesAreNamed)
+{
+    EXPECT_EQ(formatPixels({5, 2, 63}, 8), "5:0 2:0 7:7");
+    EXPECT_EQ(parsePixels("5:0 2:0 7:7", 8, 8), (std::vector<std::uint32_t>{5, 2, 63}));
+    EXPECT_TRUE(parsePixels("", 8, 8).empty());
+    for (const std::string bad : {"8:0", "0:8", "1", "1:", ":1", "a:1", "1:2x", "-1:2", "1:-2", "1::2"}) {
+        try {
+            parsePixels("0:0 " + bad, 8, 8);
+            ADD_FAILURE() << bad << " was accepted";
+        } catch (const std::invalid_argument& e) {
+            EXPECT_NE(std::string(e.what()).find("\"" + bad + "\" is not x:y inside the 8x8 image"), std::string::npos)
+                << e.what();
+        }
+    }
+}
+
+TEST(StudyRare, CurvesAddTheRarePixelsShareFromTheirOwnRenders)
+{
+    // 4 image renders: relMSE = rest + rare share, the share known per render.
+    std::vector<SceneMeasurement> ms;
+    const double rest[] = {1.0e-3, 1.2e-3, 0.9e-3, 1.1e-3}, share[] = {0, 5e-3, 0, 0};
+    for (std::uint32_t t = 0; t < 4; ++t) {
+        SceneMeasurement m;
+        m.scene = "cornell7d";
+        m.sampler = "Random";
+        m.spp = 64;
+        m.trial = t;
+        m.seconds = 1.0 + t;
+        m.relMse = rest[t] + share[t];
+        m.relMseCrop = 2e-3;
+        m.relMseRare = share[t];
+        m.relMseWorst = share[t];
+        ms.push_back(m);
+    }
+    // 3 rare-only rows (batch means of the share), with CPU times that must not count as render time.
+    const double rareRows[] = {2e-4, 4e-4, 3e-4};
+    for (std::uint32_t j = 0; j < 3; ++j) {
+        SceneMeasurement m = ms[0];
+        m.trial = 65536 + j;
+        m.rareOnly = true;
+        m.relMseRare = rareRows[j];
+        m.relMse = m.relMseCrop = m.relMseWorst = 0;
+        m.seconds = 100;
+        ms.push_back(m);
+    }
+    const auto curves = curvesOf(ms, 0.1);
+    ASSERT_EQ(curves.size(), 1u);
+    const SceneCurve& c = curves[0];
+    ASSERT_EQ(c.spp.size(), 1u);
+    const Estimate a = estimateOf({rest[0], rest[1], rest[2], rest[3]}), b = estimateOf({2e-4, 4e-4, 3e-4});
+    EXPECT_NEAR(c.relMseE[0].mean, a.mean + b.mean, 1e-15);
+    EXPECT_NEAR(c.relMseE[0].se, std::sqrt(a.se * a.se + b.se * b.se), 1e-15);
+    EXPECT_EQ(c.relMseE[0].n, 4u);  // the image renders
+    EXPECT_EQ(c.rareRenders[0], 3 * kRareBatch);
+    EXPECT_DOUBLE_EQ(c.seconds[0], 2.5);  // median of the image renders only
+    EXPECT_DOUBLE_EQ(c.relMseCropE[0].mean, 2e-3);
+    EXPECT_EQ(c.worstE[0].n, 4u);
+    // Without rare rows the same image renders give the plain mean (the one hit dominates it).
+    ms.resize(4);
+    const auto plain = curvesOf(ms, 0.1);
+    EXPECT_NEAR(plain[0].relMseE[0].mean, (4.2e-3 + 5e-3) / 4, 1e-15);
+    EXPECT_EQ(plain[0].rareRenders[0], 0u);
 }
 
 TEST(StudyShards, BadDataFilesNameTheFileRowAndColumn)
@@ -475,6 +598,7 @@ TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
     o.referenceSpp = 1024;
     o.minTrials = 2;  // a fixed n = 2: the adaptive loop stops at its cap, and the tables mark it
     o.maxTrials = 2;
+    o.rarePixels = 0;  // image renders only (the rare-pixel split has its own test)
     o.outDir = dir.string();
     o.command = "test";
     const std::string md = runSceneStudy(o, {specOf("Random"), specOf("Sobol")}, context());
@@ -487,7 +611,7 @@ TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
         std::stringstream ss(rows[i]);
         std::vector<std::string> cells;
         for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
-        ASSERT_EQ(cells.size(), 11u) << rows[i];
+        ASSERT_EQ(cells.size(), 13u) << rows[i];
         const double seconds = std::stod(cells[5]), rel = std::stod(cells[6]);
         EXPECT_GT(seconds, 0);
         EXPECT_TRUE(std::isfinite(rel));
@@ -568,6 +692,7 @@ TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
     o.maxTrials = 2;
     o.outDir = dir.string();
     o.command = "first";
+    o.rarePixels = 0;
     o.samplerShard = true;  // nothing to join yet: the scene starts, with its own reference
     runSceneStudy(o, {specOf("Random"), specOf("Sobol")}, context());
     const auto exr = dir / "scenes" / "cornell7d_reference.exr";
@@ -593,18 +718,20 @@ TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
     EXPECT_EQ(count["Random"], randomRows);
     EXPECT_EQ(count["Sobol"], 4u * 2u);      // 16 ... 128 x 2 renders
     EXPECT_EQ(count["CMJ2D-pad"], 4u * 2u);
-    for (const auto& m : rows)
-        if (m.sampler == "Random")
-            EXPECT_TRUE(std::any_of(firstRows.begin(), firstRows.end(), [&](const SceneMeasurement& f) {
-                return f.sampler == "Random" && f.spp == m.spp && f.trial == m.trial && f.relMse == m.relMse;
-            }));
+    for (const auto& m : rows) {
+        if (m.sampler != "Random") continue;
+        EXPECT_TRUE(std::any_of(firstRows.begin(), firstRows.end(), [&](const SceneMeasurement& f) {
+            return f.sampler == "Random" && f.spp == m.spp && f.trial == m.trial && f.relMse == m.relMse;
+        }));
+    }
     // Seeds come from the sampler's place in the study's list, not in the run's: Sobol, second in
     // shard 1 and first in shard 2, renders the same images against the same reference.
-    for (const auto& m : rows)
-        if (m.sampler == "Sobol")
-            EXPECT_TRUE(std::any_of(firstRows.begin(), firstRows.end(), [&](const SceneMeasurement& f) {
-                return f.sampler == "Sobol" && f.spp == m.spp && f.trial == m.trial && f.relMseRaw == m.relMseRaw;
-            })) << m.spp << " " << m.trial;
+    for (const auto& m : rows) {
+        if (m.sampler != "Sobol") continue;
+        EXPECT_TRUE(std::any_of(firstRows.begin(), firstRows.end(), [&](const SceneMeasurement& f) {
+            return f.sampler == "Sobol" && f.spp == m.spp && f.trial == m.trial && f.relMseRaw == m.relMseRaw;
+        })) << m.spp << " " << m.trial;
+    }
     // Equal-time rows: all three samplers (the budget is Sobol's), in table order.
     const auto eq = lines((dir / "scene_equal_time.csv").string());
     ASSERT_EQ(eq.size(), 4u);
@@ -618,4 +745,81 @@ TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
     const auto restarted = readSceneRecords((dir / "scene_references.csv").string()).at(0);
     EXPECT_EQ(restarted.command, "third");
     for (const auto& m : readSceneMeasurements((dir / "scenes.csv").string())) EXPECT_EQ(m.sampler, "Random");
+}
+
+TEST_F(StudyGpu, TheRarePixelsShareOnTheCpuIsTheGpuRendersShare)
+{
+    // The study adds the rare pixels' share from CPU renders of just those pixels to the GPU
+    // renders' rest: that is only the same estimator if a CPU render with a seed gives those
+    // pixels what the GPU render with that seed gives them.
+    auto scene = oas::scene::loadScene(std::string(OAS_SCENES_DIR) + "/cornell7d.json");
+    scene.width = scene.height = 16;
+    const auto plan = oas::render::planDimensions(scene);
+    const auto data = oas::render::flattenScene(scene);
+    const auto pattern = oas::makePattern(patternRequest(specOf("BoseCMJ"), 121, plan.sampleDims));
+    oas::render::GpuTracer gpu(context(), data, plan, pattern);
+    auto renderWith = [&](std::uint32_t seed) {
+        gpu.clear();
+        oas::render::forEachBatch(16, 16, 121, oas::render::samplesPerBatch(plan), seed,
+                                  [&](const oas::render::SampleBatch& b) { gpu.trace(b); });
+        return oas::image::imageFromAccumulation(gpu.accumulation(), 16, 16);
+    };
+    // Against another render as the "reference", so that the error is all noise and a render
+    // with another seed has a clearly different one.
+    const oas::image::Image reference = renderWith(0x7654321u);
+    const std::uint32_t seed = 0x1234567u;
+    const auto image = renderWith(seed);
+    const auto errors = pixelRelErrors(image, reference);
+    const std::vector<std::uint32_t> pixels = {0, 17, 8 * 16 + 8, 15 * 16 + 3, 255};
+    double gpuShare = 0;
+    for (auto p : pixels) gpuShare += errors[p] / 256.0;
+    std::vector<float> scratch;
+    const double cpuShare = rarePixelsShareCpu(data, plan, pattern, pixels, 121, seed, reference, scratch);
+    ASSERT_GT(gpuShare, 0.0);
+    EXPECT_NEAR(cpuShare, gpuShare, 1e-3 * gpuShare);  // float evaluation order only
+    // Another seed is another render: a check that the seed is what ties them.
+    const double other = rarePixelsShareCpu(data, plan, pattern, pixels, 121, seed + 1, reference, scratch);
+    EXPECT_GT(std::abs(other - gpuShare), 0.1 * gpuShare);
+}
+
+TEST_F(StudyGpu, TheRarePixelSplitAddsRenderOfThosePixelsToEveryPoint)
+{
+    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_rare_pixels";
+    std::filesystem::remove_all(dir);
+    SceneStudyOptions o;
+    o.scenesDir = OAS_SCENES_DIR;
+    o.scenes = {"cornell7d"};
+    o.width = 8;
+    o.minSpp = 16;
+    o.maxSpp = 32;
+    o.referenceSpp = 512;
+    o.minTrials = 2;
+    o.maxTrials = 2;
+    o.rarePixels = 2;
+    o.maxRareRenders = 64;
+    o.outDir = dir.string();
+    o.command = "test";
+    const std::string md = runSceneStudy(o, {specOf("Sobol")}, context());
+    const auto record = readSceneRecords((dir / "scene_references.csv").string()).at(0);
+    EXPECT_EQ(record.rareCount, 2u);
+    EXPECT_EQ(parsePixels(record.rarePixels, 8, 8).size(), 2u);
+    std::map<std::uint32_t, std::uint32_t> rareRows, imageRows;
+    for (const auto& m : readSceneMeasurements((dir / "scenes.csv").string())) {
+        (m.rareOnly ? rareRows : imageRows)[m.spp]++;
+        if (m.rareOnly) {
+            EXPECT_GE(m.relMseRare, 0.0);
+            EXPECT_GE(m.trial, 65536u);
+        } else {
+            EXPECT_LE(m.relMseRare, m.relMseRaw + 1e-12);  // a part of the render's error
+        }
+    }
+    for (std::uint32_t spp : {16u, 32u}) {
+        EXPECT_EQ(imageRows[spp], 2u);
+        EXPECT_GE(rareRows[spp], 2u);             // at least two batches
+        EXPECT_LE(rareRows[spp], 64 / kRareBatch);  // at most maxRareRenders
+    }
+    EXPECT_NE(md.find("rare-pixel split"), std::string::npos);
+    EXPECT_NE(md.find(record.rarePixels), std::string::npos);
+    const auto curves = lines((dir / "scene_curves.csv").string());
+    EXPECT_NE(curves[0].find("rare_renders"), std::string::npos);
 }
