@@ -585,21 +585,33 @@ TEST(StudyShards, TheSectionNamesTheSamplersAShardedSceneLacks)
 
 class StudyGpu : public oas::test::GpuTest {};
 
-TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
+namespace {
+
+/// A tiny cornell7d scene study (8 px wide, 2 renders per point) writing into a fresh temp folder.
+SceneStudyOptions tinyCornell(const std::string& folder, std::uint32_t maxSpp, std::uint32_t referenceSpp)
 {
-    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_scene_study";
+    const auto dir = std::filesystem::path(::testing::TempDir()) / folder;
     std::filesystem::remove_all(dir);
     SceneStudyOptions o;
     o.scenesDir = OAS_SCENES_DIR;
     o.scenes = {"cornell7d"};
     o.width = 8;
     o.minSpp = 16;
-    o.maxSpp = 128;
-    o.referenceSpp = 1024;
+    o.maxSpp = maxSpp;
+    o.referenceSpp = referenceSpp;
     o.minTrials = 2;  // a fixed n = 2: the adaptive loop stops at its cap, and the tables mark it
     o.maxTrials = 2;
-    o.rarePixels = 0;  // image renders only (the rare-pixel split has its own test)
+    o.rarePixels = 0;  // image renders only, unless a test asks for the rare-pixel split
     o.outDir = dir.string();
+    return o;
+}
+
+}  // namespace
+
+TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
+{
+    SceneStudyOptions o = tinyCornell("oas_scene_study", 128, 1024);
+    const std::filesystem::path dir = o.outDir;
     o.command = "test";
     const std::string md = runSceneStudy(o, {specOf("Random"), specOf("Sobol")}, context());
 
@@ -679,20 +691,9 @@ TEST_F(StudyGpu, TinyCostRunMeasuresEverySampler)
 
 TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
 {
-    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_sampler_shards";
-    std::filesystem::remove_all(dir);
-    SceneStudyOptions o;
-    o.scenesDir = OAS_SCENES_DIR;
-    o.scenes = {"cornell7d"};
-    o.width = 8;
-    o.minSpp = 16;
-    o.maxSpp = 128;  // the equal-time budget is Sobol at 128
-    o.referenceSpp = 512;
-    o.minTrials = 2;
-    o.maxTrials = 2;
-    o.outDir = dir.string();
+    SceneStudyOptions o = tinyCornell("oas_sampler_shards", 128, 512);  // the equal-time budget is Sobol at 128
+    const std::filesystem::path dir = o.outDir;
     o.command = "first";
-    o.rarePixels = 0;
     o.samplerShard = true;  // nothing to join yet: the scene starts, with its own reference
     runSceneStudy(o, {specOf("Random"), specOf("Sobol")}, context());
     const auto exr = dir / "scenes" / "cornell7d_reference.exr";
@@ -782,22 +783,12 @@ TEST_F(StudyGpu, TheRarePixelsShareOnTheCpuIsTheGpuRendersShare)
     EXPECT_GT(std::abs(other - gpuShare), 0.1 * gpuShare);
 }
 
-TEST_F(StudyGpu, TheRarePixelSplitAddsRenderOfThosePixelsToEveryPoint)
+TEST_F(StudyGpu, TheRarePixelSplitAddsRendersOfThosePixelsToEveryPoint)
 {
-    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_rare_pixels";
-    std::filesystem::remove_all(dir);
-    SceneStudyOptions o;
-    o.scenesDir = OAS_SCENES_DIR;
-    o.scenes = {"cornell7d"};
-    o.width = 8;
-    o.minSpp = 16;
-    o.maxSpp = 32;
-    o.referenceSpp = 512;
-    o.minTrials = 2;
-    o.maxTrials = 2;
+    SceneStudyOptions o = tinyCornell("oas_rare_pixels", 32, 512);
+    const std::filesystem::path dir = o.outDir;
     o.rarePixels = 2;
     o.maxRareRenders = 64;
-    o.outDir = dir.string();
     o.command = "test";
     const std::string md = runSceneStudy(o, {specOf("Sobol")}, context());
     const auto record = readSceneRecords((dir / "scene_references.csv").string()).at(0);
