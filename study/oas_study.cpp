@@ -139,9 +139,10 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
          "paper's, not absolute errors.\n\n";
     if (scenes.find("- Mode: full mode for every scene") == std::string::npos && !scenes.empty())
         o << "> **Not every scene figure below is from the full mode**: the scene section's first table gives "
-             "each scene's command and settings (smaller images, shorter ladders, fewer renders per point). The "
+             "each scene's command and settings (smaller images, shorter ladders, fewer renders per point, or "
+             "only some of the samplers). The "
              "full mode (every sampler, 64 px, ladders to 1024 spp and the 7D and 9D scenes at 4096, 6+ renders "
-             "per point) takes about 2 hours of lavapipe time per scene on 2 cores (that table's scene run "
+             "per point) takes up to about 2 hours of lavapipe time per scene on 2 cores (that table's scene run "
              "time column has each scene's measured time); "
              "`scripts/study.sh --parts scenes --scene NAME` runs one scene and merges it into the section "
              "(shards), and `--scene NAME --only LABEL ...` some of its samplers (sampler shards, against the "

@@ -899,12 +899,17 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 const Estimate restE = results[p][0].estimate;
                 std::vector<double> batches;
                 const std::uint32_t maxBatches = std::max(2u, o.maxRareRenders / kRareBatch);
+                // The stratified sum so far: the rest of the image plus the rare pixels' batches.
+                auto sum = [&] {
+                    const Estimate b = estimateOf(batches);
+                    Estimate e;
+                    e.mean = restE.mean + b.mean;
+                    e.se = std::sqrt(restE.se * restE.se + b.se * b.se);
+                    return e;
+                };
+                auto converged = [&](const Estimate& e) { return e.se <= o.relSeTarget * std::abs(e.mean); };
                 while (batches.size() < maxBatches) {
-                    if (batches.size() >= 2) {
-                        const Estimate b = estimateOf(batches);
-                        const double se = std::sqrt(restE.se * restE.se + b.se * b.se), mean = restE.mean + b.mean;
-                        if (se <= o.relSeTarget * std::abs(mean)) break;
-                    }
+                    if (batches.size() >= 2 && converged(sum())) break;
                     const std::uint32_t batch = std::uint32_t(batches.size());
                     const auto start = Clock::now();
                     std::vector<double> shares(kRareBatch, 0.0);
@@ -933,6 +938,11 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                     all.push_back(m);
                     batches.push_back(m.relMseRare);
                 }
+                // One line per point: this stage runs for minutes in full mode and was silent.
+                const Estimate e = sum();
+                std::fprintf(stderr, "    %s@%u: %zu rare renders, relMSE %.3g +- %.2g (%.0f%%%s, %.0f s so far)\n",
+                             s.label.c_str(), pt.spp, batches.size() * kRareBatch, e.mean, e.se, 100.0 * e.relSe(),
+                             converged(e) ? "" : ", cap", std::chrono::duration<double>(Clock::now() - t0).count());
             }
         }
         std::fprintf(stderr, "  %s done (%.0f s so far)\n", info.name.c_str(),
@@ -1072,6 +1082,40 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
             maxN = std::max(maxN, c.relMseE[i].n);
         }
 
+    // Per scene, what its capped points would cost to finish. The s.e. falls as 1/√n, so a point at
+    // relative s.e. r after n renders needs about n·(r/target)² renders in all; with heavy tails
+    // (fireflies) the sample s.e. tends to be low, so this is a lower estimate. In a scene with the
+    // rare-pixel split the capped part is the rare pixels' share: more CPU renders of those pixels,
+    // not image renders, so no image-render time is given for it.
+    auto capCost = [&] {
+        std::ostringstream out;
+        const char* sep = " (per scene: ";
+        for (const auto& info : infos) {
+            std::uint32_t capped = 0, total = 0;
+            double seconds = 0;
+            for (const auto& c : curves) {
+                if (c.scene != info.name) continue;
+                for (size_t i = 0; i < c.spp.size(); ++i) {
+                    ++total;
+                    if (!c.relMseE[i].capped && !c.relMseCropE[i].capped) continue;
+                    ++capped;
+                    const double r = std::max(c.relMseCropE[i].relSe(), info.rareCount ? 0.0 : c.relMseE[i].relSe());
+                    if (std::isfinite(r) && r > info.relSeTarget)
+                        seconds += c.relMseE[i].n * ((r / info.relSeTarget) * (r / info.relSeTarget) - 1) * c.seconds[i];
+                }
+            }
+            if (!total) continue;
+            out << sep << info.name << " " << capped << " of " << total;
+            sep = "; ";
+            if (capped && seconds > 0)
+                out << ", about " << fmtF(seconds / 3600, 1) << " h more of "
+                    << (info.rareCount ? "image renders for their crops" : "renders") << " on its device to finish them";
+            if (capped && info.rareCount) out << (seconds > 0 ? " plus" : ",") << " more CPU renders of its rare pixels";
+        }
+        if (sep[0] == ';') out << "; s.e. ∝ 1/√n, a lower estimate where fireflies make the tails heavy)";
+        return out.str();
+    };
+
     std::ostringstream md;
     // How the scenes were run: one row per scene (shards may differ in settings, device and date).
     // A scene measured in sampler shards that are not all in yet lacks some samplers' curves.
@@ -1106,7 +1150,8 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
           "render)) among the points whose full-image or crop s.e. is above the target fraction of the mean, up to "
           "the scene's maximum renders per point. Numbers still above the target are marked \"cap\" with the s.e. "
           "reached. "
-       << cappedPoints << " of " << points << " points hit the cap. Stopping on the s.e. biases it slightly low (the minimum n limits this). "
+       << cappedPoints << " of " << points << " points hit the cap" << capCost()
+       << ". Stopping on the s.e. biases it slightly low (the minimum n limits this). "
           "Ratios carry a first-order (delta-method) s.e. for independent numbers (a sampler's ratio to "
           "itself is 1 ± its own relative s.e.), values read off curves (equal time, time to target) "
           "the s.e. of the interpolated log error (timing noise not included).\n"

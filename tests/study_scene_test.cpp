@@ -814,3 +814,35 @@ TEST_F(StudyGpu, TheRarePixelSplitAddsRendersOfThosePixelsToEveryPoint)
     const auto curves = lines((dir / "scene_curves.csv").string());
     EXPECT_NE(curves[0].find("rare_renders"), std::string::npos);
 }
+
+// The section says, per scene, how many points hit the cap and what finishing them would cost:
+// with s.e. ∝ 1/√n a point at relative s.e. r after n renders needs n·(r/0.1)² renders in all.
+TEST(StudyShards, TheSectionStatesWhatTheCappedPointsWouldCost)
+{
+    auto ms = measurementsOf("cornell7d", "Random", 1e-2);  // 128 spp: s.e. 2.7% of the mean, not capped
+    ms.erase(std::remove_if(ms.begin(), ms.end(), [](const SceneMeasurement& m) { return m.spp == 16; }), ms.end());
+    // 16 spp: relMSE 1, 1, 1, 3 (mean 1.5, sd 1, s.e. 0.5: a third of the mean), 100 s per render.
+    for (std::uint32_t t = 0; t < 4; ++t) {
+        SceneMeasurement m = ms[0];
+        m.spp = 16;
+        m.trial = t;
+        m.seconds = 100;
+        m.relMse = m.relMseCrop = t == 3 ? 3.0 : 1.0;
+        m.relMseWorst = 0;
+        ms.push_back(m);
+    }
+    const std::string md = sceneSection({recordOf("cornell7d", "full mode")}, ms, {specOf("Random")});
+    // 4 × ((1/3 ÷ 0.1)² − 1) × 100 s = 4044 s = 1.1 h.
+    EXPECT_NE(md.find("1 of 2 points hit the cap (per scene: cornell7d 1 of 2, about 1.1 h more of renders on its "
+                      "device to finish them;"),
+              std::string::npos)
+        << md.substr(md.find("points hit the cap") - 10, 300);
+    // The rare-pixel split: its full-image s.e. is the rare pixels' share, which image renders do not shrink.
+    auto split = recordOf("cornell7d", "full mode");
+    split.rareCount = 2;
+    split.rarePixels = "1:1 2:2";
+    const std::string md2 = sceneSection({split}, ms, {specOf("Random")});
+    EXPECT_NE(md2.find("cornell7d 1 of 2, about 1.1 h more of image renders for their crops on its device to finish "
+                       "them plus more CPU renders of its rare pixels"),
+              std::string::npos);
+}
