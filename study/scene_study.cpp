@@ -905,6 +905,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                     Estimate e;
                     e.mean = restE.mean + b.mean;
                     e.se = std::sqrt(restE.se * restE.se + b.se * b.se);
+                    e.n = restE.n;  // as curvesOf counts it: the image renders
                     return e;
                 };
                 auto converged = [&](const Estimate& e) { return e.se <= o.relSeTarget * std::abs(e.mean); };
