@@ -1059,7 +1059,11 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
         if (!rnd) return none;
         const Estimate exact = estAt(*rnd, spp, which);
         if (std::isfinite(exact.mean)) return exact;
-        return interpEstimate(rnd->spp, which == 0 ? rnd->relMseE : which == 2 ? rnd->relMseRestE : rnd->relMseCropE, spp);
+        double target = 0.1;
+        for (const auto& info : infos)
+            if (info.name == rnd->scene) target = info.relSeTarget;
+        return interpEstimate(rnd->spp, which == 0 ? rnd->relMseE : which == 2 ? rnd->relMseRestE : rnd->relMseCropE, spp,
+                              target);
     };
     // a ÷ b with its s.e.; for a sampler against itself (same = true) the ratio is exactly 1 and its
     // ± is the number's own relative s.e. (ratioOf assumes independent a and b: √2 too wide).
@@ -1155,7 +1159,10 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
        << ". Stopping on the s.e. biases it slightly low (the minimum n limits this). "
           "Ratios carry a first-order (delta-method) s.e. for independent numbers (a sampler's ratio to "
           "itself is 1 ± its own relative s.e.), values read off curves (equal time, time to target) "
-          "the s.e. of the interpolated log error (timing noise not included).\n"
+          "the s.e. of the interpolated log error (timing noise not included); a value read between two points "
+          "is marked \"cap\" where one of them is and its own s.e. is still above the target, a time to target "
+          "wherever one of them is (its s.e. divides by the curve's local slope, which a capped point makes "
+          "unsure).\n"
        << "- Verdicts (\"lower\", \"higher\", goals, rankings) are stated only where two numbers differ by more "
           "than twice their combined s.e., 2·√(s.e.₁² + s.e.₂²); otherwise the table says **tie**.\n"
        << "- relMSE = mean over pixels and R, G, B of (I − R)² / (R² + 0.01) (Rousselle et al.; the paper's metric), "
@@ -1450,7 +1457,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
             std::vector<double> ts;
             std::vector<Estimate> es;
             byTime(*sob, ts, es);
-            for (int b = 0; b < 2; ++b) sobAt[b] = interpEstimate(ts, es, budgets[b]);
+            for (int b = 0; b < 2; ++b) sobAt[b] = interpEstimate(ts, es, budgets[b], info.relSeTarget);
         }
         for (const auto& s : samplers) {
             const SceneCurve* c = curveOf(info.name, s.label);
@@ -1460,7 +1467,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
             byTime(*c, ts, es);
             md << "| " << info.name << " | " << s.label;
             for (int b = 0; b < 2; ++b) {
-                const Estimate e = interpEstimate(ts, es, budgets[b]);
+                const Estimate e = interpEstimate(ts, es, budgets[b], info.relSeTarget);
                 md << " | " << fmtEstimate(e) << " | " << fmtRatio(ratioTo(e, sobAt[b], s.label == "Sobol")) << " | "
                    << (s.label == "Sobol" ? "—" : verdictCell(e, sobAt[b]));
                 if (std::isfinite(e.mean)) ranking[b].push_back({e, s.label});

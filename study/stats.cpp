@@ -431,7 +431,7 @@ CrossingEstimate firstCrossing(const std::vector<double>& x, const std::vector<E
     return c;
 }
 
-Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate>& y, double at)
+Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate>& y, double at, double relSeTarget)
 {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     Estimate e;
@@ -449,7 +449,7 @@ Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate
     const double ri = (1 - u) * y[i].se / y[i].mean, rj = u * y[j].se / y[j].mean;
     e.se = e.mean * std::sqrt(ri * ri + (u > 0 ? rj * rj : 0.0));
     e.n = u <= 0 ? y[i].n : u >= 1 ? y[j].n : std::min(y[i].n, y[j].n);
-    e.capped = (u < 1 && y[i].capped) || (u > 0 && y[j].capped);
+    e.capped = ((u < 1 && y[i].capped) || (u > 0 && y[j].capped)) && !(e.relSe() <= relSeTarget);
     return e;
 }
 

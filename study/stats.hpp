@@ -110,14 +110,20 @@ std::vector<std::vector<AdaptiveResult>> budgetedMeans(
 /// Piecewise log-log interpolation (as interpLogLog) of estimates: the mean is interpLogLog's, the
 /// s.e. by the delta method on log y = (1 − u) log y_i + u log y_{i+1} for independent points:
 /// se(log y) = sqrt(((1 − u) se_i/y_i)² + (u se_{i+1}/y_{i+1})²), se = y se(log y); n the smaller of
-/// the two neighbours', capped if either is. Timing noise in x is not included.
-Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate>& y, double at);
+/// the two neighbours'. Capped where a neighbour it draws on is capped and its own s.e. is still
+/// above relSeTarget × mean (a value read between a capped point and a converged one can have
+/// the smaller s.e.: marking it "cap" beside an s.e. under the target would contradict the rule).
+/// Timing noise in x is not included.
+Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate>& y, double at,
+                        double relSeTarget = 0.1);
 
 /// Where a curve of estimates first comes down to a target estimate (firstCrossing on the means),
 /// with a delta-method s.e. of the crossing time: on the crossed segment log y = a + b log x, so
 /// se(log x) = sqrt(se(log y)² + (se_target/target)²) / |b|, se(log y) interpolated as in
 /// interpEstimate; se = x se(log x). NaN s.e. when the crossing is at the first point (a bound) or
-/// not found.
+/// not found. Capped where a neighbour it draws on is capped, whatever its own s.e.: unlike
+/// interpEstimate's, this s.e. divides by the segment's fitted slope, which a noisy capped point
+/// makes unreliable (it can come out at 1% on a firefly-ridden curve), so the mark stays.
 struct CrossingEstimate {
     Crossing crossing;
     Estimate x;  ///< mean = crossing.x

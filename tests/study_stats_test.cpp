@@ -169,6 +169,16 @@ TEST(StudyStats, RatioAndInterpolationPropagateTheError)
     EXPECT_NEAR(end.se, 0.025, 1e-15);
     EXPECT_EQ(end.n, 20u);
     EXPECT_TRUE(std::isnan(interpEstimate(x, y, 8).mean));
+    // Next to a capped point: "cap" only while the value's own s.e. is above the target. Halfway
+    // between a capped point at 14% and a converged one at 2% the s.e. is sqrt(0.07² + 0.01²) = 7%.
+    std::vector<Estimate> yc = {est(1, 0.14, 10), est(0.25, 0.005, 20)};
+    yc[0].capped = true;
+    const Estimate midC = interpEstimate(x, yc, 2);
+    EXPECT_NEAR(midC.se / midC.mean, std::sqrt(0.07 * 0.07 + 0.01 * 0.01), 1e-12);
+    EXPECT_FALSE(midC.capped);
+    EXPECT_TRUE(interpEstimate(x, yc, 2, 0.05).capped);           // 7% is above a 5% target
+    EXPECT_TRUE(interpEstimate(x, yc, 1.1).capped);               // mostly the capped point: ~13%
+    EXPECT_FALSE(interpEstimate({1, 4}, y, 2, 0.01).capped);      // no capped neighbour: never capped
 }
 
 TEST(StudyStats, JointAdaptiveDrawsWaitForEveryTargetedQuantity)
@@ -202,6 +212,12 @@ TEST(StudyStats, CrossingTimeCarriesAnErrorBar)
     const auto first = firstCrossing(std::vector<double>{1, 4}, y, est(2, 0.1, 10));
     EXPECT_TRUE(first.crossing.atFirst);
     EXPECT_TRUE(std::isnan(first.x.se));
+    // A capped neighbour marks the time "cap" whatever its s.e. (the slope it divides by is unsure).
+    std::vector<Estimate> yc = y;
+    yc[0].capped = true;
+    EXPECT_TRUE(firstCrossing(std::vector<double>{1, 4}, yc, est(0.5, 0.05, 10)).x.capped);
+    EXPECT_FALSE(firstCrossing(std::vector<double>{1, 4}, y, est(0.5, 0.05, 10)).x.capped);
+    EXPECT_TRUE(firstCrossing(std::vector<double>{1, 4}, yc, est(2, 0.1, 10)).x.capped);  // a bound, too
 }
 
 TEST(StudyStats, SharedBudgetGoesWhereItShrinksTheErrorMostPerSecond)
