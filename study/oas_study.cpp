@@ -142,7 +142,7 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
              "each scene's command and settings (smaller images, shorter ladders, fewer renders per point, or "
              "only some of the samplers). The "
              "full mode (every sampler, 64 px, ladders to 1024 spp and the 7D and 9D scenes at 4096, 6+ renders "
-             "per point) takes up to about 2 hours of lavapipe time per scene on 2 cores (that table's scene run "
+             "per point) takes 1 to 1.5 hours of lavapipe time per scene on 2 cores (that table's scene run "
              "time column has each scene's measured time); "
              "`scripts/study.sh --parts scenes --scene NAME` runs one scene and merges it into the section "
              "(shards), and `--scene NAME --only LABEL ...` some of its samplers (sampler shards, against the "
