@@ -304,12 +304,8 @@ std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measuremen
             }
             if (t.empty()) continue;  // rare-pixel rows without their image renders: no point
             Estimate full = estimateOf(e);
-            if (!rare.empty()) {
-                // The stratified sum (independent renders): its n is the image renders'.
-                const Estimate a = estimateOf(withoutRare), b = estimateOf(rare);
-                full.mean = a.mean + b.mean;
-                full.se = std::sqrt(a.se * a.se + b.se * b.se);
-            }
+            // The stratified sum (independent renders): its n is the image renders'.
+            if (!rare.empty()) full = sumOf(estimateOf(withoutRare), estimateOf(rare));
             c.rareRenders.push_back(std::uint32_t(rare.size()) * kRareBatch);
             c.spp.push_back(spp);
             c.seconds.push_back(median(t));
@@ -899,15 +895,9 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 const Estimate restE = results[p][0].estimate;
                 std::vector<double> batches;
                 const std::uint32_t maxBatches = std::max(2u, o.maxRareRenders / kRareBatch);
-                // The stratified sum so far: the rest of the image plus the rare pixels' batches.
-                auto sum = [&] {
-                    const Estimate b = estimateOf(batches);
-                    Estimate e;
-                    e.mean = restE.mean + b.mean;
-                    e.se = std::sqrt(restE.se * restE.se + b.se * b.se);
-                    e.n = restE.n;  // as curvesOf counts it: the image renders
-                    return e;
-                };
+                // The stratified sum so far (as curvesOf forms it): the rest of the image plus the
+                // rare pixels' batches.
+                auto sum = [&] { return sumOf(restE, estimateOf(batches)); };
                 auto converged = [&](const Estimate& e) { return e.se <= o.relSeTarget * std::abs(e.mean); };
                 while (batches.size() < maxBatches) {
                     if (batches.size() >= 2 && converged(sum())) break;
@@ -1079,47 +1069,39 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
         if (!std::isfinite(a.mean) || !std::isfinite(b.mean)) return std::string("—");
         return verdictWord(compare(a, b));
     };
-    std::uint32_t cappedPoints = 0, points = 0, maxN = 0;
-    for (const auto& c : curves)
-        for (size_t i = 0; i < c.spp.size(); ++i) {
-            ++points;
-            cappedPoints += c.relMseE[i].capped || c.relMseCropE[i].capped;
-            maxN = std::max(maxN, c.relMseE[i].n);
-        }
-
-    // Per scene, what its capped points would cost to finish. The s.e. falls as 1/√n, so a point at
-    // relative s.e. r after n renders needs about n·(r/target)² renders in all; with heavy tails
-    // (fireflies) the sample s.e. tends to be low, so this is a lower estimate. In a scene with the
-    // rare-pixel split the capped part is the rare pixels' share: more CPU renders of those pixels,
-    // not image renders, so no image-render time is given for it.
-    auto capCost = [&] {
-        std::ostringstream out;
-        const char* sep = " (per scene: ";
-        for (const auto& info : infos) {
-            std::uint32_t capped = 0, total = 0;
-            double seconds = 0;
-            for (const auto& c : curves) {
-                if (c.scene != info.name) continue;
-                for (size_t i = 0; i < c.spp.size(); ++i) {
-                    ++total;
-                    if (!c.relMseE[i].capped && !c.relMseCropE[i].capped) continue;
-                    ++capped;
-                    const double r = std::max(c.relMseCropE[i].relSe(), info.rareCount ? 0.0 : c.relMseE[i].relSe());
-                    if (std::isfinite(r) && r > info.relSeTarget)
-                        seconds += c.relMseE[i].n * ((r / info.relSeTarget) * (r / info.relSeTarget) - 1) * c.seconds[i];
-                }
+    // Per scene, its capped points and what finishing them would cost. The s.e. falls as 1/√n, so
+    // a point at relative s.e. r after n renders needs about n·(r/target)² renders in all; with
+    // heavy tails (fireflies) the sample s.e. tends to be low, so this is a lower estimate. In a
+    // scene with the rare-pixel split the full-image s.e. is the rare pixels' share, which more CPU
+    // renders of those pixels shrink, not image renders: only the crop's cost is counted there.
+    std::uint32_t cappedPoints = 0, points = 0;
+    std::ostringstream capCost;
+    const char* sep = " (per scene: ";
+    for (const auto& info : infos) {
+        std::uint32_t capped = 0, total = 0;
+        double seconds = 0;
+        for (const auto& c : curves) {
+            if (c.scene != info.name) continue;
+            for (size_t i = 0; i < c.spp.size(); ++i) {
+                ++total;
+                if (!c.relMseE[i].capped && !c.relMseCropE[i].capped) continue;
+                ++capped;
+                const double r = std::max(c.relMseCropE[i].relSe(), info.rareCount ? 0.0 : c.relMseE[i].relSe());
+                if (std::isfinite(r) && r > info.relSeTarget)
+                    seconds += c.relMseE[i].n * ((r / info.relSeTarget) * (r / info.relSeTarget) - 1) * c.seconds[i];
             }
-            if (!total) continue;
-            out << sep << info.name << " " << capped << " of " << total;
-            sep = "; ";
-            if (capped && seconds > 0)
-                out << ", about " << fmtF(seconds / 3600, 1) << " h more of "
-                    << (info.rareCount ? "image renders for their crops" : "renders") << " on its device to finish them";
-            if (capped && info.rareCount) out << (seconds > 0 ? " plus" : ",") << " more CPU renders of its rare pixels";
         }
-        if (sep[0] == ';') out << "; s.e. ∝ 1/√n, a lower estimate where fireflies make the tails heavy)";
-        return out.str();
-    };
+        if (!total) continue;
+        cappedPoints += capped;
+        points += total;
+        capCost << sep << info.name << " " << capped << " of " << total;
+        sep = "; ";
+        if (capped && seconds > 0)
+            capCost << ", about " << fmtF(seconds / 3600, 1) << " h more of "
+                    << (info.rareCount ? "image renders for their crops" : "renders") << " on its device to finish them";
+        if (capped && info.rareCount) capCost << (seconds > 0 ? " plus" : ",") << " more CPU renders of its rare pixels";
+    }
+    if (sep[0] == ';') capCost << "; s.e. ∝ 1/√n, a lower estimate where fireflies make the tails heavy)";
 
     std::ostringstream md;
     // How the scenes were run: one row per scene (shards may differ in settings, device and date).
@@ -1155,7 +1137,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
           "render)) among the points whose full-image or crop s.e. is above the target fraction of the mean, up to "
           "the scene's maximum renders per point. Numbers still above the target are marked \"cap\" with the s.e. "
           "reached. "
-       << cappedPoints << " of " << points << " points hit the cap" << capCost()
+       << cappedPoints << " of " << points << " points hit the cap" << capCost.str()
        << ". Stopping on the s.e. biases it slightly low (the minimum n limits this). "
           "Ratios carry a first-order (delta-method) s.e. for independent numbers (a sampler's ratio to "
           "itself is 1 ± its own relative s.e.), values read off curves (equal time, time to target) "

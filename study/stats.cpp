@@ -314,6 +314,15 @@ Estimate ratioOf(const Estimate& a, const Estimate& b)
     return r;
 }
 
+Estimate sumOf(const Estimate& a, const Estimate& b)
+{
+    Estimate r;
+    r.mean = a.mean + b.mean;
+    r.se = std::sqrt(a.se * a.se + b.se * b.se);
+    r.n = a.n;
+    return r;
+}
+
 namespace {
 
 /// The draws of one point and the tests on them (budgetedMeans; adaptiveMeans is its one-point case).

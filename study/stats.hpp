@@ -69,6 +69,9 @@ std::string verdictWord(Verdict v);
 /// a / b with the first-order (delta-method) standard error r sqrt((se_a/a)² + (se_b/b)²), for
 /// independent a and b; n is the smaller of the two, capped if either is.
 Estimate ratioOf(const Estimate& a, const Estimate& b);
+/// a + b for independent a and b (a stratified sum): s.e. sqrt(se_a² + se_b²); n is a's (the
+/// estimate the sum is counted by: in the rare-pixel split, the image renders), not capped.
+Estimate sumOf(const Estimate& a, const Estimate& b);
 
 /// Adaptive number of independent draws per point: draw(i) returns draw i (i = 0, 1, ...; the
 /// caller gives each its own seed). Takes nMin draws, then one more at a time while

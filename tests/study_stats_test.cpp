@@ -181,6 +181,16 @@ TEST(StudyStats, RatioAndInterpolationPropagateTheError)
     EXPECT_FALSE(interpEstimate({1, 4}, y, 2, 0.01).capped);      // no capped neighbour: never capped
 }
 
+TEST(StudyStats, AStratifiedSumAddsVariances)
+{
+    // 3 ± 0.3 plus 1 ± 0.4: 4 ± 0.5 (a 3-4-5 triangle), counted by the first estimate's n.
+    const Estimate s = sumOf(est(3, 0.3, 12), est(1, 0.4, 400));
+    EXPECT_DOUBLE_EQ(s.mean, 4);
+    EXPECT_NEAR(s.se, 0.5, 1e-15);
+    EXPECT_EQ(s.n, 12u);
+    EXPECT_FALSE(s.capped);
+}
+
 TEST(StudyStats, JointAdaptiveDrawsWaitForEveryTargetedQuantity)
 {
     // Quantity 0 is constant (met at nMin); quantity 1 alternates 1 ± 0.5 (needs ~26 draws);
