@@ -3,13 +3,15 @@
 # Pass --quick for a run of about 6 min on 2 cores (5.5 min in a fresh clone, 2026-12-01); without
 # it the full mode (1 to 1.5 h per scene on 2 cores: 58-93 min measured 2026-12-02, about 4 h for
 # the three scenes, plus the other parts): every scene point gets at least 6 renders,
-# then each scene shares 300 s of further renders among the points whose relMSE s.e. is still
-# above 10% of the mean (--scene-min-trials, --scene-extra-seconds,
+# then each scene shares up to 1800 s of further renders (at most 256 per point) among the points
+# whose relMSE s.e. is still above 10% of the mean (--scene-min-trials, --scene-extra-seconds,
 # --scene-max-trials), and the 7D and 9D scenes add the paper's 3969/4096 spp (--scene-paper-spp).
 # Other oas-study options pass through, e.g. --parts scenes to rerun one part, or
 # --parts scenes --scene cornell7d to (re)measure one scene and merge it with the others (shards),
 # or --parts scenes --scene interior_deep --only Random Sobol BoseCMJ to measure some of a scene's
-# samplers against its kept reference (sampler shards, for a scene longer than one run).
+# samplers against its kept reference (sampler shards, for a scene longer than one run), or
+# --parts scenes --scene cornell7d --scene-top-up to add renders to a scene's kept measurements
+# where a point is still above the target (same settings; a larger budget or cap).
 # cornell7d's four light-corner pixels get their share of the error from many CPU renders of just
 # those pixels (--scene-rare-pixels, --scene-max-rare-renders).
 # Plots need Debian's python3-matplotlib, installed here when missing.

@@ -30,6 +30,9 @@ using namespace oas::study;
 
 namespace {
 
+/// Full mode's render seconds per scene beyond the minimum renders (--scene-extra-seconds).
+constexpr double kFullExtraSeconds = 1800;
+
 std::string cpuModel()
 {
     std::ifstream f("/proc/cpuinfo");
@@ -121,8 +124,8 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
     o << "# Study: which sampler should I use, and at what cost?\n\n"
       << "Orthogonal-array samplers (Jarosz et al. 2019) against the baselines of the paper, measured by this "
          "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: every sampler, "
-         "64 px, at least 6 renders per scene point plus 300 s of further renders per scene where they "
-         "shrink the error bars most, and the 7D and 9D scenes at the paper's 3969/4096 spp; many hours on "
+         "64 px, at least 6 renders per scene point plus up to " << kFullExtraSeconds << " s of further renders per "
+         "scene where they shrink the error bars most, and the 7D and 9D scenes at the paper's 3969/4096 spp; many hours on "
          "2 cores, see below) or `scripts/study.sh --quick` (about 6 minutes); "
          "`build/oas-study --parts ...` reruns single "
          "parts, and this file is reassembled from the parts' sections in `docs/study/*.md`. Each section "
@@ -190,7 +193,7 @@ std::string cell(const SlopeFit& f)
 int main(int argc, char** argv)
 {
     CLI::App app{"oas-study: the sampler study (analytic MSE slopes, scene error vs spp and time, cost, projections and spectra) -> docs/study, docs/STUDY.md"};
-    bool quick = false, noPlot = false;
+    bool quick = false, noPlot = false, sceneTopUp = false;
     std::uint32_t trials = 0, minSpp = 16, maxSpp = 0, rqmcLog2 = 16, rqmcReps = 64;
     unsigned threads = 0;
     std::vector<std::uint32_t> dimsList;
@@ -231,11 +234,11 @@ int main(int argc, char** argv)
     app.add_option("--scene-min-trials", sceneMinTrials, "fewest independent renders per (sampler, spp) (quick 3, full 6)")
         ->check(CLI::Range(2u, 4096u));
     app.add_option("--scene-max-trials", sceneMaxTrials,
-                   "most renders per (sampler, spp) while the s.e. is above --scene-rel-se of the mean (quick 4, full 64)")
+                   "most renders per (sampler, spp) while the s.e. is above --scene-rel-se of the mean (quick 4, full 256)")
         ->check(CLI::Range(2u, 4096u));
     app.add_option("--scene-extra-seconds", sceneExtraSeconds,
                    "render seconds per scene beyond the minimum renders, shared by its points where they shrink "
-                   "the s.e. most (quick 0, full 300)")
+                   "the s.e. most (quick 0, full 1800)")
         ->check(CLI::Range(0.0, 1e6));
     app.add_option("--scene-rel-se", sceneRelSe, "target standard error ÷ mean of every scene relMSE (0.1)")
         ->check(CLI::Range(0.001, 1.0));
@@ -248,6 +251,10 @@ int main(int argc, char** argv)
         ->check(CLI::Range(32u, 1u << 20));
     app.add_option("--reference-spp", referenceSpp, "scene reference spp (default: 16 x the scene's largest count)")
         ->check(CLI::Range(256u, 1u << 24));
+    app.add_flag("--scene-top-up", sceneTopUp,
+                 "add renders to the chosen scenes' earlier measurements (same settings and reference; a larger "
+                 "--scene-max-trials or budget is allowed) where a point's s.e. is still above the target, "
+                 "instead of measuring them again");
     app.add_flag("--no-plot", noPlot, "do not run study/plot.py afterwards");
     try {
         app.parse(argc, argv);
@@ -264,6 +271,10 @@ int main(int argc, char** argv)
     auto wants = [&](const std::string& part) { return std::find(parts.begin(), parts.end(), part) != parts.end(); };
     const auto t0 = std::chrono::steady_clock::now();
     std::filesystem::create_directories(outDir);
+    if (sceneTopUp && (!wants("scenes") || parts.size() != 1)) {
+        std::fprintf(stderr, "oas-study: error: --scene-top-up adds renders to the scene part alone: use --parts scenes\n");
+        return 2;
+    }
     auto samplers = studySamplers();
     if (!only.empty()) {
         for (const auto& label : only)
@@ -641,19 +652,21 @@ int main(int argc, char** argv)
             // Adaptive n per point (see SceneStudyOptions): quick mode keeps a small cap so that it
             // stays at minutes; the cap is marked wherever it is hit.
             so.minTrials = sceneMinTrials ? sceneMinTrials : (quick ? 3 : 6);
-            so.maxTrials = std::max(so.minTrials, sceneMaxTrials ? sceneMaxTrials : (quick ? 4u : 64u));
+            so.maxTrials = std::max(so.minTrials, sceneMaxTrials ? sceneMaxTrials : (quick ? 4u : 256u));
             so.relSeTarget = sceneRelSe;
-            // Full mode: 300 s of extra renders per scene, where they shrink the error bars most (the
-            // firefly-dominated points would otherwise take every render up to the cap: hours).
-            so.extraSecondsPerScene = sceneExtraSeconds >= 0 ? sceneExtraSeconds : (quick ? 0 : 300);
+            // Full mode: up to 1800 s of extra renders per scene, where they shrink the error bars most;
+            // they stop once every point meets the target. cornell7d's points at 4096 spp need ~500 s
+            // each beyond 6 renders, and its 16-49 spp points over 64 renders (2026-12-02 data).
+            so.extraSecondsPerScene = sceneExtraSeconds >= 0 ? sceneExtraSeconds : (quick ? 0 : kFullExtraSeconds);
             // Sampler shards (--only): each shard joins the scene's earlier record when the settings
             // match. The default extra budget is split by the shard's share of the samplers, so that a
-            // scene's shards together spend the full mode's 300 s.
+            // scene's shards together spend the full mode's budget.
             so.samplerShard = !only.empty();
+            so.topUp = sceneTopUp;
             so.rarePixels = sceneRarePixels;
             so.maxRareRenders = sceneMaxRareRenders ? sceneMaxRareRenders : (quick ? 1024u : 16384u);
             if (so.samplerShard && sceneExtraSeconds < 0 && !quick)
-                so.extraSecondsPerScene = 300.0 * double(samplers.size()) / double(studySamplers().size());
+                so.extraSecondsPerScene = kFullExtraSeconds * double(samplers.size()) / double(studySamplers().size());
             // Quick mode: a subset of samplers, to keep it to minutes (one path-tracing pipeline per
             // construction x offset x field kind, ~1.5 s each on lavapipe, and the renders
             // themselves); the full mode renders every sampler.

@@ -270,6 +270,14 @@ double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render:
     return share / double(reference.pixelCount());
 }
 
+bool moreRareRendersHelp(const Estimate& rest, const Estimate& rare, double relSeTarget)
+{
+    const Estimate sum = sumOf(rest, rare);
+    if (sum.se <= relSeTarget * std::abs(sum.mean)) return false;
+    const bool restAboveTarget = rest.se > relSeTarget * std::abs(sum.mean);
+    return !(restAboveTarget && rare.se <= rest.se / 3);
+}
+
 std::vector<SceneCurve> curvesOf(const std::vector<SceneMeasurement>& measurements, double relSeTarget)
 {
     std::vector<SceneCurve> curves;
@@ -690,7 +698,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
 
     std::vector<SceneMeasurement> all;
     std::vector<SceneRecord> records;
-    std::vector<std::string> joinedScenes;          // sampler shards that joined the scene's earlier record
+    std::vector<std::string> joinedScenes;          // sampler shards and top-ups that joined the scene's earlier record
     std::vector<std::vector<std::string>> freshEq;  // scene_equal_time.csv rows of this run
     // Random and Halton also render at Bose's counts (matched spp with the OAs).
     const SamplerSpec bose = studySamplers().front();
@@ -780,20 +788,30 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         for (const auto& r : keptRecords)
             if (r.name == info.name) kept = &r;
         bool joined = false;
-        if (o.samplerShard && kept) {
+        // A shard that cannot join starts the scene over, with a note; a top-up stops instead (it
+        // was asked to add to the earlier renders, not to replace them).
+        auto cannotJoin = [&](const std::string& why) {
+            if (o.topUp)
+                throw std::invalid_argument("--scene-top-up: " + info.name + " cannot be topped up: " + why +
+                                            "; run it without --scene-top-up");
+            std::fprintf(stderr, "note: %s starts over: %s\n", info.name.c_str(), why.c_str());
+        };
+        if (o.topUp && !kept) cannotJoin("it has no earlier record in " + refPath);
+        if ((o.samplerShard || o.topUp) && kept) {
+            // A top-up may raise the renders-per-point cap (that is what it is for), not lower it.
+            SceneRecord asKept = info;
+            if (o.topUp && info.maxTrials >= kept->maxTrials) asKept.maxTrials = kept->maxTrials;
             std::string why;
-            if (!sameSceneSettings(*kept, info, &why)) {
-                std::fprintf(stderr, "note: %s starts over: its earlier rows were measured with other settings (%s)\n",
-                             info.name.c_str(), why.c_str());
+            if (!sameSceneSettings(*kept, asKept, &why)) {
+                cannotJoin("its earlier rows were measured with other settings (" + why + ")");
             } else if (!fs::exists(refExr)) {
-                std::fprintf(stderr, "note: %s starts over: its earlier reference image %s is missing\n", info.name.c_str(),
-                             refExr.c_str());
+                cannotJoin("its earlier reference image " + refExr + " is missing");
             } else {
                 reference = oas::image::readExr(refExr);
                 joined = reference.width == info.width && reference.height == info.height;
                 if (!joined)
-                    std::fprintf(stderr, "note: %s starts over: %s is %ux%u, not %ux%u\n", info.name.c_str(), refExr.c_str(),
-                                 reference.width, reference.height, info.width, info.height);
+                    cannotJoin(refExr + " is " + std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                               ", not " + std::to_string(info.width) + "x" + std::to_string(info.height));
             }
         }
         const oas::Pattern refPattern = oas::makePattern(patternRequest(sobolSpec, referenceSpp / 2, plan.sampleDims));
@@ -850,15 +868,44 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         std::uint32_t lastSampler = ~0u;
         const size_t firstOfScene = all.size();
         const std::vector<std::uint32_t> rare = parsePixels(info.rarePixels, info.width, info.height);
+        // A top-up's earlier rows per point: image renders by trial, rare-pixel batches by batch.
+        std::vector<std::vector<SceneMeasurement>> keptImage(points.size()), keptRare(points.size());
+        std::vector<std::uint32_t> keptCounts(points.size(), 0);
+        if (o.topUp) {
+            for (const auto& m : keptMeasurements) {
+                if (m.scene != info.name) continue;
+                for (std::size_t p = 0; p < points.size(); ++p)
+                    if (samplers[points[p].sampler].label == m.sampler && points[p].spp == m.spp)
+                        (m.rareOnly ? keptRare : keptImage)[p].push_back(m);
+            }
+            for (std::size_t p = 0; p < points.size(); ++p) {
+                for (auto* rows : {&keptImage[p], &keptRare[p]}) {
+                    std::sort(rows->begin(), rows->end(), [](const auto& a, const auto& b) { return a.trial < b.trial; });
+                    const std::uint32_t first = rows == &keptRare[p] ? 65536u : 0u;
+                    for (std::uint32_t i = 0; i < rows->size(); ++i)
+                        if ((*rows)[i].trial != first + i)
+                            throw std::runtime_error(csvPath + ": " + info.name + " " + samplers[points[p].sampler].label +
+                                                     "@" + std::to_string(points[p].spp) + ": trials are not " +
+                                                     std::to_string(first) + ", " + std::to_string(first + 1) +
+                                                     ", ... (a top-up continues them)");
+                }
+                keptCounts[p] = std::uint32_t(keptImage[p].size());
+            }
+        }
         const auto results = budgetedMeans(
             points.size(),
             [&](std::size_t p, std::uint32_t t) {
                 const Point& pt = points[p];
                 const SamplerSpec& s = samplers[pt.sampler];
-                if (t == 0 && pt.sampler != lastSampler) {
+                if (t == keptCounts[p] && pt.sampler != lastSampler) {
                     std::fprintf(stderr, "  %s: %s (%.0f s so far)\n", info.name.c_str(), s.label.c_str(),
                                  std::chrono::duration<double>(Clock::now() - t0).count());
                     lastSampler = pt.sampler;
+                }
+                if (t < keptCounts[p]) {
+                    const SceneMeasurement& m = keptImage[p][t];
+                    all.push_back(m);
+                    return CostedDraw{{rare.empty() ? m.relMse : m.relMse - m.relMseRare, m.relMseCrop}, m.seconds};
                 }
                 auto& tracer = cache.get(*pt.pattern);
                 const Render r =
@@ -883,7 +930,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 // pixels' share gets its own renders below.
                 return CostedDraw{{rare.empty() ? m.relMse : m.relMse - m.relMseRare, m.relMseCrop}, r.seconds};
             },
-            2, ao, o.extraSecondsPerScene);
+            2, ao, o.extraSecondsPerScene, keptCounts);
         if (!rare.empty()) {
             std::fprintf(stderr, "  %s: rare pixels %s on the CPU (%.0f s so far)\n", info.name.c_str(), info.rarePixels.c_str(),
                          std::chrono::duration<double>(Clock::now() - t0).count());
@@ -894,13 +941,17 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 // (curvesOf) is below the target, at least 2 batches, at most maxRareRenders.
                 const Estimate restE = results[p][0].estimate;
                 std::vector<double> batches;
+                for (const auto& m : keptRare[p]) {
+                    all.push_back(m);
+                    batches.push_back(m.relMseRare);
+                }
                 const std::uint32_t maxBatches = std::max(2u, o.maxRareRenders / kRareBatch);
                 // The stratified sum so far (as curvesOf forms it): the rest of the image plus the
                 // rare pixels' batches.
                 auto sum = [&] { return sumOf(restE, estimateOf(batches)); };
                 auto converged = [&](const Estimate& e) { return e.se <= o.relSeTarget * std::abs(e.mean); };
                 while (batches.size() < maxBatches) {
-                    if (batches.size() >= 2 && converged(sum())) break;
+                    if (batches.size() >= 2 && !moreRareRendersHelp(restE, estimateOf(batches), o.relSeTarget)) break;
                     const std::uint32_t batch = std::uint32_t(batches.size());
                     const auto start = Clock::now();
                     std::vector<double> shares(kRareBatch, 0.0);
@@ -931,9 +982,11 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 }
                 // One line per point: this stage runs for minutes in full mode and was silent.
                 const Estimate e = sum();
+                const bool restAbove = restE.se > o.relSeTarget * std::abs(e.mean);
                 std::fprintf(stderr, "    %s@%u: %zu rare renders, relMSE %.3g +- %.2g (%.0f%%%s, %.0f s so far)\n",
                              s.label.c_str(), pt.spp, batches.size() * kRareBatch, e.mean, e.se, 100.0 * e.relSe(),
-                             converged(e) ? "" : ", cap", std::chrono::duration<double>(Clock::now() - t0).count());
+                             converged(e) ? "" : restAbove ? ", cap: the image renders' part" : ", cap",
+                             std::chrono::duration<double>(Clock::now() - t0).count());
             }
         }
         std::fprintf(stderr, "  %s done (%.0f s so far)\n", info.name.c_str(),
@@ -998,8 +1051,10 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     for (auto& m : mergeSamplerShard(keptNow, all))
         if (isMerged(m.scene)) mergedMeasurements.push_back(std::move(m));  // no rows without a record
     std::vector<std::vector<std::string>> eqRows;
+    // A top-up renders no new trial-0 images, so its scenes keep their equal-time pictures.
     for (const auto& row : keptEq)
-        if (isMerged(row[0]) && (!isFresh(row[0]) || (isJoined(row[0]) && !isFreshSampler(row[0], row[1]))))
+        if (isMerged(row[0]) &&
+            (!isFresh(row[0]) || (isJoined(row[0]) && (o.topUp || !isFreshSampler(row[0], row[1])))))
             eqRows.push_back(row);
     eqRows.insert(eqRows.end(), freshEq.begin(), freshEq.end());
     // Scene order, then table order (a joined shard's rows would otherwise come last).
@@ -1072,8 +1127,8 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
     // Per scene, its capped points and what finishing them would cost. The s.e. falls as 1/√n, so
     // a point at relative s.e. r after n renders needs about n·(r/target)² renders in all; with
     // heavy tails (fireflies) the sample s.e. tends to be low, so this is a lower estimate. In a
-    // scene with the rare-pixel split the full-image s.e. is the rare pixels' share, which more CPU
-    // renders of those pixels shrink, not image renders: only the crop's cost is counted there.
+    // scene with the rare-pixel split the rare stage stops once the image renders' part is the larger
+    // s.e. (moreRareRendersHelp), so there too it is image renders that a capped point lacks.
     std::uint32_t cappedPoints = 0, points = 0;
     std::ostringstream capCost;
     const char* sep = " (per scene: ";
@@ -1086,7 +1141,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
                 ++total;
                 if (!c.relMseE[i].capped && !c.relMseCropE[i].capped) continue;
                 ++capped;
-                const double r = std::max(c.relMseCropE[i].relSe(), info.rareCount ? 0.0 : c.relMseE[i].relSe());
+                const double r = std::max(c.relMseCropE[i].relSe(), c.relMseE[i].relSe());
                 if (std::isfinite(r) && r > info.relSeTarget)
                     seconds += c.relMseE[i].n * ((r / info.relSeTarget) * (r / info.relSeTarget) - 1) * c.seconds[i];
             }
@@ -1097,9 +1152,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
         capCost << sep << info.name << " " << capped << " of " << total;
         sep = "; ";
         if (capped && seconds > 0)
-            capCost << ", about " << fmtF(seconds / 3600, 1) << " h more of "
-                    << (info.rareCount ? "image renders for their crops" : "renders") << " on its device to finish them";
-        if (capped && info.rareCount) capCost << (seconds > 0 ? " plus" : ",") << " more CPU renders of its rare pixels";
+            capCost << ", about " << fmtF(seconds / 3600, 1) << " h more of renders on its device to finish them";
     }
     if (sep[0] == ';') capCost << "; s.e. ∝ 1/√n, a lower estimate where fireflies make the tails heavy)";
 

@@ -76,6 +76,14 @@ struct SceneStudyOptions {
     /// kRareBatch, until the sum's s.e. is below relSeTarget or maxRareRenders (curvesOf).
     std::int64_t rarePixels = -1;  ///< -1: each scene's SceneCase::rarePixels
     std::uint32_t maxRareRenders = 16384;  ///< per point
+    /// A top-up (`--scene-top-up`): each chosen scene keeps its earlier rows and reference and adds
+    /// renders where a point's s.e. is still above the target, with this run's budget and caps (at
+    /// least the earlier ones). The earlier renders count as drawn (budgetedMeans' keptDraws), new
+    /// renders continue their trial numbers, so their seeds are those a single run with the larger
+    /// budget would have used, and the record joins the earlier one (joinShardRecord). The scene
+    /// must have an earlier record with the same settings apart from the renders-per-point cap, and
+    /// its reference image; otherwise the run stops with an error instead of starting over.
+    bool topUp = false;
 };
 
 /// One scene's run, a row of scene_references.csv: its size, crop and reference, and the settings,
@@ -131,6 +139,13 @@ double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render:
                           const oas::Pattern& pattern, const std::vector<std::uint32_t>& pixels, std::uint32_t spp,
                           std::uint32_t seed, const oas::image::Image& reference, std::vector<float>& scratch,
                           double relEpsilon = 1e-2);
+/// Whether one more batch of rare-pixel renders can still help a point reach relSeTarget: not once
+/// the stratified sum rest + rare is there, and not while the image renders' part alone has an s.e.
+/// above the target × the sum (only more image renders help then) and the rare part's s.e. is
+/// already at most a third of the rest's (adding under 6% to the sum's s.e.). cornell7d's full run
+/// of 2026-12-02 spent its rare-pixel stage's cap of 16384 renders on 19 such points.
+bool moreRareRendersHelp(const Estimate& rest, const Estimate& rare, double relSeTarget);
+
 /// "x:y x:y ..." of pixel indices in a width-wide image, and back (throws std::invalid_argument
 /// naming the bad item and the image size for a malformed list or a pixel outside it).
 std::string formatPixels(const std::vector<std::uint32_t>& pixels, std::uint32_t width);

@@ -363,9 +363,12 @@ struct DrawnPoint {
 
 std::vector<std::vector<AdaptiveResult>> budgetedMeans(
     std::size_t points, const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
-    std::size_t targeted, const AdaptiveOptions& o, double budget)
+    std::size_t targeted, const AdaptiveOptions& o, double budget, const std::vector<std::uint32_t>& keptDraws)
 {
     const std::uint32_t nMax = std::max<std::uint32_t>(1, o.nMax), nMin = std::clamp<std::uint32_t>(o.nMin, 1, nMax);
+    if (!keptDraws.empty() && keptDraws.size() != points)
+        throw std::invalid_argument("budgetedMeans: " + std::to_string(keptDraws.size()) + " kept-draw counts for " +
+                                    std::to_string(points) + " points");
     std::vector<DrawnPoint> ps(points);
     auto drawOne = [&](std::size_t k) {
         const CostedDraw d = draw(k, ps[k].n);
@@ -374,7 +377,7 @@ std::vector<std::vector<AdaptiveResult>> budgetedMeans(
         return d.cost;
     };
     for (std::size_t k = 0; k < points; ++k)
-        while (ps[k].n < nMin) drawOne(k);
+        while (ps[k].n < std::max(nMin, keptDraws.empty() ? 0u : keptDraws[k])) drawOne(k);
     double spent = 0;
     while (spent < budget) {
         std::size_t best = points;

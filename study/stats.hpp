@@ -106,9 +106,13 @@ struct CostedDraw {
 /// draw shrinks a relative s.e. by about relSe / 2n). Points that meet the target get no more.
 /// Returns, per point, one result per quantity; `capped` marks every quantity still above target.
 /// draw(point, i) is called with i = 0, 1, ... in order for each point.
+/// `keptDraws` (empty, or one count per point) continues an earlier run: point k first takes
+/// max(nMin, keptDraws[k]) draws, none counted against the budget (the caller returns the earlier
+/// run's values for i < keptDraws[k]), so that the budget buys only new draws.
 std::vector<std::vector<AdaptiveResult>> budgetedMeans(
     std::size_t points, const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
-    std::size_t targeted, const AdaptiveOptions& options, double budget);
+    std::size_t targeted, const AdaptiveOptions& options, double budget,
+    const std::vector<std::uint32_t>& keptDraws = {});
 
 /// Piecewise log-log interpolation (as interpLogLog) of estimates: the mean is interpLogLog's, the
 /// s.e. by the delta method on log y = (1 − u) log y_i + u log y_{i+1} for independent points:

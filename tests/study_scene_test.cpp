@@ -319,6 +319,22 @@ TEST(StudyRare, PicksThePixelsWhoseHalvesDifferMostRelativeToTheirValue)
     EXPECT_THROW(rarePixelsOf(a, oas::image::Image(2, 2), ref, 1), std::invalid_argument);
 }
 
+TEST(StudyRare, MoreRareRendersOnlyWhileTheyCanStillReachTheTarget)
+{
+    auto est = [](double mean, double se, std::uint32_t n = 8) { return Estimate{mean, se, n, false}; };
+    // The sum 1.0 +- 0.05: there already.
+    EXPECT_FALSE(moreRareRendersHelp(est(0.5, 0.03), est(0.5, 0.04), 0.1));
+    // The rare part's s.e. keeps the sum above the target: more of its renders help.
+    EXPECT_TRUE(moreRareRendersHelp(est(0.5, 0.03), est(0.5, 0.2), 0.1));
+    // The image renders' part alone is above the target (0.15 of 1.0) and the rare part's s.e. is a
+    // third of it or less: only image renders can help.
+    EXPECT_FALSE(moreRareRendersHelp(est(0.5, 0.15), est(0.5, 0.04), 0.1));
+    // ... but while the rare part's s.e. is larger than that, it still shrinks the sum's.
+    EXPECT_TRUE(moreRareRendersHelp(est(0.5, 0.15), est(0.5, 0.06), 0.1));
+    // One batch has no s.e. yet (NaN): draw on.
+    EXPECT_TRUE(moreRareRendersHelp(est(0.5, 0.03), est(0.5, std::nan(""), 1), 0.1));
+}
+
 TEST(StudyRare, PixelListsRoundTripAndBadOnesAreNamed)
 {
     EXPECT_EQ(formatPixels({5, 2, 63}, 8), "5:0 2:0 7:7");
@@ -748,6 +764,66 @@ TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
     for (const auto& m : readSceneMeasurements((dir / "scenes.csv").string())) EXPECT_EQ(m.sampler, "Random");
 }
 
+TEST_F(StudyGpu, ATopUpAddsRendersWhereASingleLargerRunWould)
+{
+    // Target 0.1% (unreachable in a few renders): every point draws up to its cap.
+    SceneStudyOptions o = tinyCornell("oas_top_up", 32, 512);
+    const std::filesystem::path dir = o.outDir;
+    o.relSeTarget = 1e-3;
+    o.command = "first";
+    runSceneStudy(o, {specOf("Random"), specOf("Sobol")}, context());
+    const auto firstRecord = readSceneRecords((dir / "scene_references.csv").string()).at(0);
+    const auto firstRows = readSceneMeasurements((dir / "scenes.csv").string());
+    const auto firstEq = lines((dir / "scene_equal_time.csv").string());
+
+    // A top-up may not lower the cap, nor change what the renders measure.
+    o.topUp = true;
+    o.maxTrials = 1;
+    o.minTrials = 1;
+    EXPECT_THROW(runSceneStudy(o, {specOf("Random")}, context()), std::invalid_argument);
+    o.minTrials = o.maxTrials = 2;
+    o.width = 16;
+    EXPECT_THROW(runSceneStudy(o, {specOf("Random")}, context()), std::invalid_argument);
+    o.width = 8;
+    EXPECT_EQ(readSceneMeasurements((dir / "scenes.csv").string()).size(), firstRows.size());  // nothing written
+
+    // Cap 2 -> 4 with an ample budget: two more renders per point, numbered on.
+    o.maxTrials = 4;
+    o.extraSecondsPerScene = 1e6;
+    o.command = "second";
+    runSceneStudy(o, {specOf("Random"), specOf("Sobol")}, context());
+    const auto record = readSceneRecords((dir / "scene_references.csv").string()).at(0);
+    EXPECT_EQ(record.command, "first ; second");
+    EXPECT_EQ(record.maxTrials, 4u);
+    EXPECT_EQ(record.refErr, firstRecord.refErr);  // the kept reference
+    EXPECT_EQ(record.extraSeconds, firstRecord.extraSeconds + 1e6);
+    const auto rows = readSceneMeasurements((dir / "scenes.csv").string());
+    ASSERT_EQ(rows.size(), 2 * firstRows.size());
+    for (const auto& f : firstRows)  // the earlier renders, unchanged
+        EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const SceneMeasurement& m) {
+            return m.sampler == f.sampler && m.spp == f.spp && m.trial == f.trial && m.relMseRaw == f.relMseRaw &&
+                   m.seconds == f.seconds;
+        })) << f.sampler << "@" << f.spp << " trial " << f.trial;
+    EXPECT_EQ(lines((dir / "scene_equal_time.csv").string()), firstEq);  // no new trial-0 images
+
+    // One run with the cap of 4 from the start renders the same trials 2 and 3 (the same seeds).
+    SceneStudyOptions once = tinyCornell("oas_top_up_once", 32, 512);
+    once.relSeTarget = 1e-3;
+    once.maxTrials = 4;
+    once.extraSecondsPerScene = 1e6;
+    runSceneStudy(once, {specOf("Random"), specOf("Sobol")}, context());
+    const auto onceRows = readSceneMeasurements((std::filesystem::path(once.outDir) / "scenes.csv").string());
+    ASSERT_EQ(onceRows.size(), rows.size());
+    for (const auto& m : onceRows)
+        EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const SceneMeasurement& r) {
+            return r.sampler == m.sampler && r.spp == m.spp && r.trial == m.trial && r.relMseRaw == m.relMseRaw;
+        })) << m.sampler << "@" << m.spp << " trial " << m.trial;
+
+    // A scene without an earlier record cannot be topped up.
+    o.scenes = {"blue_spheres9d"};
+    EXPECT_THROW(runSceneStudy(o, {specOf("Random")}, context()), std::invalid_argument);
+}
+
 TEST_F(StudyGpu, TheRarePixelsShareOnTheCpuIsTheGpuRendersShare)
 {
     // The study adds the rare pixels' share from CPU renders of just those pixels to the GPU
@@ -837,12 +913,12 @@ TEST(StudyShards, TheSectionStatesWhatTheCappedPointsWouldCost)
                       "device to finish them;"),
               std::string::npos)
         << md.substr(md.find("points hit the cap") - 10, 300);
-    // The rare-pixel split: its full-image s.e. is the rare pixels' share, which image renders do not shrink.
+    // With the rare-pixel split the same: its rare stage stops once the image renders' part has the
+    // larger s.e. (moreRareRendersHelp), so image renders are what a capped point lacks there too.
     auto split = recordOf("cornell7d", "full mode");
     split.rareCount = 2;
     split.rarePixels = "1:1 2:2";
     const std::string md2 = sceneSection({split}, ms, {specOf("Random")});
-    EXPECT_NE(md2.find("cornell7d 1 of 2, about 1.1 h more of image renders for their crops on its device to finish "
-                       "them plus more CPU renders of its rare pixels"),
+    EXPECT_NE(md2.find("cornell7d 1 of 2, about 1.1 h more of renders on its device to finish them;"),
               std::string::npos);
 }

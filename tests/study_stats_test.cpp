@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "stats.hpp"
@@ -277,6 +278,54 @@ TEST(StudyStats, SharedBudgetGoesWhereItShrinksTheErrorMostPerSecond)
     EXPECT_EQ(capped[0][0].estimate.n, 16u);
     EXPECT_EQ(capped[1][0].estimate.n, 16u);
     EXPECT_TRUE(capped[0][0].estimate.capped);
+}
+
+// A top-up (the scene study's --scene-top-up) continues a run: its earlier draws are handed back
+// as draws 0 .. kept-1, cost nothing from the new budget, and the new draws continue the numbering.
+TEST(StudyStats, KeptDrawsAreNotChargedToTheBudget)
+{
+    AdaptiveOptions o;
+    o.nMin = 2;
+    o.nMax = 100;
+    std::vector<std::uint32_t> calls(2, 0);
+    auto draw = [&](std::size_t p, std::uint32_t i) {
+        EXPECT_EQ(i, calls[p]);
+        ++calls[p];
+        return CostedDraw{{i % 2 ? 1.5 : 0.5}, 1.0};  // relative s.e. 0.5/sqrt(n): 10% at n = 25
+    };
+    // No budget: each point stops at its kept count (or nMin), none charged.
+    const auto kept = budgetedMeans(2, draw, 1, o, 0, {10, 0});
+    EXPECT_EQ(kept[0][0].estimate.n, 10u);
+    EXPECT_EQ(kept[1][0].estimate.n, 2u);
+    // A budget of 5 one-second draws buys exactly 5 new draws beyond the kept ones.
+    std::fill(calls.begin(), calls.end(), 0u);
+    const auto more = budgetedMeans(2, draw, 1, o, 5, {10, 0});
+    EXPECT_EQ(more[0][0].estimate.n + more[1][0].estimate.n, 10u + 2u + 5u);
+    EXPECT_THROW(budgetedMeans(2, draw, 1, o, 0, {1, 2, 3}), std::invalid_argument);
+}
+
+// With an unlimited budget each point stops on its own values, so a run capped at 8 draws and then
+// topped up to a cap of 64 ends exactly where one run capped at 64 does.
+TEST(StudyStats, ATopUpEndsWhereOneLargerRunEnds)
+{
+    auto value = [](std::size_t p, std::uint32_t i) { return 1.0 + 0.3 * std::sin(double(7 * i + 3 * p)) * (p + 1); };
+    auto draw = [&](std::size_t p, std::uint32_t i) { return CostedDraw{{value(p, i)}, 1.0}; };
+    AdaptiveOptions small;
+    small.nMin = 4;
+    small.nMax = 8;
+    const double inf = std::numeric_limits<double>::infinity();
+    const auto first = budgetedMeans(3, draw, 1, small, inf);
+    AdaptiveOptions large = small;
+    large.nMax = 64;
+    std::vector<std::uint32_t> keptCounts;
+    for (const auto& r : first) keptCounts.push_back(r[0].estimate.n);
+    const auto topUp = budgetedMeans(3, draw, 1, large, inf, keptCounts);
+    const auto once = budgetedMeans(3, draw, 1, large, inf);
+    for (std::size_t p = 0; p < 3; ++p) {
+        EXPECT_EQ(topUp[p][0].values, once[p][0].values) << p;
+        EXPECT_EQ(topUp[p][0].estimate.capped, once[p][0].estimate.capped) << p;
+    }
+    EXPECT_GT(once[2][0].estimate.n, 8u);  // the cap of the first run mattered
 }
 
 TEST(StudyStats, CrossingErrorBarWithNonAscendingTimes)
