@@ -820,8 +820,9 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         cache.prepare(allPatterns);
         std::fprintf(stderr, "  pipelines built in %.0f s\n", std::chrono::duration<double>(Clock::now() - tp).count());
         if (joined) {
-            std::fprintf(stderr, "[scenes] %s %ux%u, %uD: sampler shard, reference %s (Sobol, %u spp) reused\n",
-                         info.name.c_str(), scene.width, scene.height, plan.usedDims, refExr.c_str(), kept->referenceSpp);
+            std::fprintf(stderr, "[scenes] %s %ux%u, %uD: %s, reference %s (Sobol, %u spp) reused\n", info.name.c_str(),
+                         scene.width, scene.height, plan.usedDims, o.topUp ? "top-up of the kept renders" : "sampler shard",
+                         refExr.c_str(), kept->referenceSpp);
             info.refErr = kept->refErr;
             info.refErrCrop = kept->refErrCrop;
             info.rarePixels = kept->rarePixels;
