@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs the study (oas-study): analytic integrands, MSE vs N, slopes, plots -> docs/study/, docs/STUDY.md.
-# Pass --quick for a run of about 6 min on 2 cores (5.5 min in a fresh clone, 2026-12-01); without
+# Pass --quick for a run of 2-6 min on 2 cores (fresh clones: 5.5 min 2026-12-01, 1.8 min 2026-12-03); without
 # it the full mode (about 1 to 1.5 h per scene on 2 cores: 48-93 min measured 2026-12-02/03, about
 # 4 h for the three scenes, plus the other parts): every scene point gets at least 6 renders,
 # then each scene shares up to 1800 s of further renders (at most 256 per point) among the points

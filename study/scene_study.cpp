@@ -1153,7 +1153,8 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
         capCost << sep << info.name << " " << capped << " of " << total;
         sep = "; ";
         if (capped && seconds > 0)
-            capCost << ", about " << fmtF(seconds / 3600, 1) << " h more of renders on its device to finish them";
+            capCost << ", about " << (seconds < 3600 ? fmtF(std::max(1.0, seconds / 60), 0) + " min" : fmtF(seconds / 3600, 1) + " h")
+                    << " more of renders on its device to finish them";
     }
     if (sep[0] == ';') capCost << "; s.e. ∝ 1/√n, a lower estimate where fireflies make the tails heavy)";
 

@@ -921,4 +921,9 @@ TEST(StudyShards, TheSectionStatesWhatTheCappedPointsWouldCost)
     const std::string md2 = sceneSection({split}, ms, {specOf("Random")});
     EXPECT_NE(md2.find("cornell7d 1 of 2, about 1.1 h more of renders on its device to finish them;"),
               std::string::npos);
+    // Under an hour it is said in minutes (the quick study's caps cost seconds: "0.0 h" said nothing).
+    for (auto& m : ms) m.seconds /= 100;  // 40 s: "about 1 min"
+    const std::string md3 = sceneSection({recordOf("cornell7d", "full mode")}, ms, {specOf("Random")});
+    EXPECT_NE(md3.find("cornell7d 1 of 2, about 1 min more of renders on its device to finish them;"), std::string::npos)
+        << md3.substr(md3.find("points hit the cap") - 10, 300);
 }
