@@ -873,11 +873,11 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         std::vector<std::vector<SceneMeasurement>> keptImage(points.size()), keptRare(points.size());
         std::vector<std::uint32_t> keptCounts(points.size(), 0);
         if (o.topUp) {
+            std::map<std::pair<std::string, std::uint32_t>, std::size_t> pointOf;  // (label, spp) -> point
+            for (std::size_t p = 0; p < points.size(); ++p) pointOf[{samplers[points[p].sampler].label, points[p].spp}] = p;
             for (const auto& m : keptMeasurements) {
-                if (m.scene != info.name) continue;
-                for (std::size_t p = 0; p < points.size(); ++p)
-                    if (samplers[points[p].sampler].label == m.sampler && points[p].spp == m.spp)
-                        (m.rareOnly ? keptRare : keptImage)[p].push_back(m);
+                const auto it = m.scene == info.name ? pointOf.find({m.sampler, m.spp}) : pointOf.end();
+                if (it != pointOf.end()) (m.rareOnly ? keptRare : keptImage)[it->second].push_back(m);
             }
             for (std::size_t p = 0; p < points.size(); ++p) {
                 for (auto* rows : {&keptImage[p], &keptRare[p]}) {
@@ -893,6 +893,11 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 keptCounts[p] = std::uint32_t(keptImage[p].size());
             }
         }
+        // What budgetedMeans targets per render: the full image (without the rare pixels where
+        // they get their own renders below) and the crop.
+        auto drawOf = [&](const SceneMeasurement& m) {
+            return CostedDraw{{rare.empty() ? m.relMse : m.relMse - m.relMseRare, m.relMseCrop}, m.seconds};
+        };
         const auto results = budgetedMeans(
             points.size(),
             [&](std::size_t p, std::uint32_t t) {
@@ -904,9 +909,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                     lastSampler = pt.sampler;
                 }
                 if (t < keptCounts[p]) {
-                    const SceneMeasurement& m = keptImage[p][t];
-                    all.push_back(m);
-                    return CostedDraw{{rare.empty() ? m.relMse : m.relMse - m.relMseRare, m.relMseCrop}, m.seconds};
+                    all.push_back(keptImage[p][t]);
+                    return drawOf(keptImage[p][t]);
                 }
                 auto& tracer = cache.get(*pt.pattern);
                 const Render r =
@@ -929,7 +933,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 if (t == 0) images[{s.label, pt.spp}] = r.image;
                 // With the rare-pixel split the renders target the rest of the image; the rare
                 // pixels' share gets its own renders below.
-                return CostedDraw{{rare.empty() ? m.relMse : m.relMse - m.relMseRare, m.relMseCrop}, r.seconds};
+                return drawOf(m);
             },
             2, ao, o.extraSecondsPerScene, keptCounts);
         if (!rare.empty()) {
@@ -938,8 +942,9 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             for (std::size_t p = 0; p < points.size(); ++p) {
                 const Point& pt = points[p];
                 const SamplerSpec& s = samplers[pt.sampler];
-                // Batches of kRareBatch renders of the rare pixels, until the stratified sum's s.e.
-                // (curvesOf) is below the target, at least 2 batches, at most maxRareRenders.
+                // Batches of kRareBatch renders of the rare pixels while they can still bring the
+                // stratified sum's s.e. (curvesOf) to the target (moreRareRendersHelp), at least 2
+                // batches, at most maxRareRenders.
                 const Estimate restE = results[p][0].estimate;
                 std::vector<double> batches;
                 for (const auto& m : keptRare[p]) {

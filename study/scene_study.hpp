@@ -73,7 +73,8 @@ struct SceneStudyOptions {
     /// full-image relMSE is then the mean over its renders of the relMSE without those pixels, plus
     /// the mean of those pixels' share over many further renders of just those pixels, traced on the
     /// CPU (traceCpu: the same samples, seeds and estimator as the GPU's), in batches of
-    /// kRareBatch, until the sum's s.e. is below relSeTarget or maxRareRenders (curvesOf).
+    /// kRareBatch, while they can still bring the sum's s.e. (curvesOf) below relSeTarget
+    /// (moreRareRendersHelp), at most maxRareRenders.
     std::int64_t rarePixels = -1;  ///< -1: each scene's SceneCase::rarePixels
     std::uint32_t maxRareRenders = 16384;  ///< per point
     /// A top-up (`--scene-top-up`): each chosen scene keeps its earlier rows and reference and adds
