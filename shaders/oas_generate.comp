@@ -4,12 +4,13 @@
 // consecutive samples, group of up to OAS_GROUP_DIMS dims of one OA block): the block and column
 // state (OasBlock, OasColumn: seeds, permutation keys, field constants) is made once per pass
 // and reused by every sample of the run, which is the library's fast path. The host dispatches
-// chunks of whole runs (firstItem, itemCount) so each dispatch stays within device limits, and
-// picks samplesPerRun so an invocation's loop iterations stay far below lavapipe's silent cap of
-// 65535 (generate_gpu.cpp, samplesPerRun).
+// chunks of whole runs (firstItem, itemCount) so each dispatch stays within device limits. The
+// library's loops all unroll, so a run's loop iterations are this kernel's own, far below
+// lavapipe's silent cap of 65535 (generate_gpu.cpp, samplesPerRun).
 // OAS_HASH_ONLY (a -D define) builds the same-shape kernel that only hashes: the benchmark's
 // practical ceiling for a per-(sample, dim) stateless sampler.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 // Specialised per pattern kind (the host sets these from the pattern), so the branches of the
 // other constructions, offsets and field kinds fold away: lavapipe executes both sides of every

@@ -4,6 +4,7 @@
 // The scene's dimension plan and effects arrive as specialization constants, so effects a scene
 // does not call for compile away and consume no sample dimensions.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 layout(constant_id = 0) const uint oasSpecConstruction = 1u;
 layout(constant_id = 1) const uint oasSpecOffset = 3u;
@@ -56,7 +57,8 @@ layout(std430, binding = 2) readonly buffer Lights { PtLight lights[]; };
 layout(std430, binding = 3) readonly buffer Nodes { PtNode nodes[]; };
 layout(std430, binding = 4) readonly buffer Globals { PtGlobals globals; };
 layout(std430, binding = 5) buffer Accumulation { vec4 accumulation[]; };
-layout(std430, binding = 7) buffer Counters { uint nonFiniteSamples; } counters;
+// The count of non-finite samples, 64 bits as two words: it cannot wrap in any render we can run.
+layout(std430, binding = 7) buffer Counters { uint nonFiniteLow; uint nonFiniteHigh; } counters;
 
 PtShape pt_shape(uint i) { return shapes[i]; }
 PtMaterial pt_material(uint i) { return materials[i]; }
@@ -86,5 +88,10 @@ void main()
     }
     uint pixel = py * uint(globals.image.x) + px;
     accumulation[pixel] += vec4(sum, float(params.sampleCount));
-    if (nonFinite > 0u) atomicAdd(counters.nonFiniteSamples, nonFinite);
+    if (nonFinite > 0u) {
+        // The add that wraps the low word carries into the high one; each wrap is seen by exactly
+        // one add (the one whose old value was within nonFinite of 2^32), so the sum stays exact.
+        uint before = atomicAdd(counters.nonFiniteLow, nonFinite);
+        if (before + nonFinite < before) atomicAdd(counters.nonFiniteHigh, 1u);
+    }
 }

@@ -246,7 +246,8 @@ TEST(Embedding, SingleFileIsTheLibraryWithoutIncludes)
     const std::string single = readFile(OAS_SINGLE_GLSL);
     ASSERT_GT(single.size(), 10000u) << OAS_SINGLE_GLSL;
     EXPECT_EQ(single.find("\n#include"), std::string::npos) << "an #include directive survived";
-    const std::string extensions = "#extension GL_GOOGLE_include_directive : require\n";
+    const std::string extensions =
+        "#extension GL_GOOGLE_include_directive : require\n#extension GL_EXT_control_flow_attributes : require\n";
     const std::string main =
         "layout(local_size_x = 8) in;\n"
         "layout(std430, binding = 0) writeonly buffer Out { float v[]; };\n"
@@ -265,7 +266,8 @@ TEST(Embedding, SingleFileIsTheLibraryWithoutIncludes)
     ASSERT_TRUE(b) << bMessage;
     EXPECT_GT(included.size(), 1000u);
     EXPECT_TRUE(included == inlined) << "SPIR-V differs: " << included.size() << " vs " << inlined.size() << " bytes";
-    const auto [bare, bareMessage] = compileText("#version 450\n#define OAS_NO_SOBOL\n" + single + main);
+    const auto [bare, bareMessage] =
+        compileText("#version 450\n#extension GL_EXT_control_flow_attributes : require\n#define OAS_NO_SOBOL\n" + single + main);
     EXPECT_TRUE(bare) << "without GL_GOOGLE_include_directive: " << bareMessage;
 }
 
@@ -273,7 +275,8 @@ TEST(Embedding, SobolWithoutDirectionNumbersIsACompileError)
 {
     // The Sobol baseline needs its direction numbers from the includer; without them it used to
     // fall back to random values silently. Now the includer must choose.
-    const std::string head = "#version 450\n#extension GL_GOOGLE_include_directive : require\n";
+    const std::string head =
+        "#version 450\n#extension GL_GOOGLE_include_directive : require\n#extension GL_EXT_control_flow_attributes : require\n";
     const std::string body = "#include \"oas/oas.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() {}\n";
     const auto [neither, message] = compileText(head + body);
     EXPECT_FALSE(neither) << "compiled without OAS_SOBOL_DIRECTION or OAS_NO_SOBOL";
@@ -305,7 +308,8 @@ TEST(Embedding, TheHeaderListsExactlyTheMacroNamesThatBreakIt)
             if (w != "//") documented.push_back(w);
     }
     EXPECT_EQ(documented, listed) << "the header's list and this test's differ";
-    const std::string shader = "#version 450\n#extension GL_GOOGLE_include_directive : require\n#define OAS_NO_SOBOL\n";
+    const std::string shader = "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
+                               "#extension GL_EXT_control_flow_attributes : require\n#define OAS_NO_SOBOL\n";
     const std::string body = "#include \"oas/oas.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() {}\n";
     for (const std::string& name : listed) {
         EXPECT_FALSE(compileText(shader + "#define " + name + " 7u\n" + body).first)

@@ -1,9 +1,11 @@
 // Finite-field arithmetic of the GLSL library (shaders/oas/oas_gf.glsl, compiled as C++) against
 // the independent polynomial reference in textbook_oa.hpp, for every field the samplers use most:
-// all q = p^k <= 256 for p in {2, 3, 5, 7, 11, 13} exhaustively, and GF(2^k) up to 2^12 and
-// GF(3^k) up to 3^7 on sampled pairs.
+// all q = p^k <= 256 for p in {2, 3, 5, 7, 11, 13} exhaustively, and GF(2^k) up to 2^12 and the
+// largest accepted odd extension fields (GF(5^4), GF(7^3), GF(11^3), GF(13^3), GF(17^2), GF(31^2),
+// GF(61^2)) on sampled pairs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <ostream>
 #include <random>
@@ -34,7 +36,11 @@ std::vector<FieldCase> fieldCases()
     for (std::uint32_t p : {2u, 3u, 5u, 7u, 11u, 13u})
         for (std::uint32_t k = 1; ipow(p, k) <= 256; ++k) cases.push_back({p, k});
     for (std::uint32_t k = 9; k <= 12; ++k) cases.push_back({2, k});
-    for (std::uint32_t k = 6; k <= 7; ++k) cases.push_back({3, k});
+    // The largest odd extension fields the host accepts, per characteristic (oas_gf_slots_fit):
+    // their lazy digit slots are the fullest, so overflow would show here first.
+    for (const FieldCase c : {FieldCase{5, 4}, FieldCase{7, 3}, FieldCase{11, 3}, FieldCase{13, 3}, FieldCase{17, 2},
+                              FieldCase{31, 2}, FieldCase{61, 2}})
+        cases.push_back(c);
     return cases;
 }
 
@@ -243,6 +249,34 @@ TEST_P(GfTest, PowMatchesRepeatedMultiplication)
 }
 
 INSTANTIATE_TEST_SUITE_P(Fields, GfTest, testing::ValuesIn(fieldCases()), caseName);
+
+TEST(GfHost, OddExtensionFieldsOutsideOneWordAreRefused)
+{
+    // Of the prime powers q <= 4096, exactly these four need more than 32 bits of digit slots:
+    // 2k(p-1)^2 + 2(p-1) is 52 (6 bits) x 6 slots, 58 x 7, 168 (8 bits) x 5 and 300 (9 bits) x 4.
+    const std::vector<std::uint32_t> refused = {729, 2187, 2401, 3125};
+    for (std::uint32_t q = 2; q <= 4096; ++q) {
+        const oas::PrimePower pk = oas::primePower(q);
+        if (pk.p == 0) continue;
+        const std::uint32_t p = pk.p, k = pk.k;
+        const OasField f = libraryField(p, k);
+        const bool expectRefused = std::find(refused.begin(), refused.end(), q) != refused.end();
+        EXPECT_EQ(p == 2 || k == 1 || oas::glsl::oas_gf_slots_fit(f), !expectRefused) << "q = " << q;
+        oas::PatternRequest request;
+        request.sampler = "bose";
+        request.spp = q * q;
+        if (expectRefused) {
+            try {
+                (void)oas::makePattern(request);
+                ADD_FAILURE() << "bose " << q * q << " was accepted";
+            } catch (const std::exception& e) {
+                EXPECT_NE(std::string(e.what()).find("digit slots"), std::string::npos) << e.what();
+            }
+        } else {
+            EXPECT_NO_THROW((void)oas::makePattern(request)) << "bose q = " << q;
+        }
+    }
+}
 
 TEST(GfHost, PrimePower)
 {

@@ -406,8 +406,20 @@ TEST_F(RenderGpu, CountsNonFiniteSamples)
     gpuHot.trace(batch);
     EXPECT_GT(gpuHot.nonFiniteSamples(), 0u);
     for (float v : gpuHot.accumulation()) ASSERT_TRUE(std::isfinite(v));
+    const std::uint64_t perTrace = gpuHot.nonFiniteSamples();
     gpuHot.clear();
     EXPECT_EQ(gpuHot.nonFiniteSamples(), 0u);
+
+    // The GPU count is 64 bits: started a few short of 2^32, the same trace carries into the high
+    // word instead of wrapping (a 32-bit counter would read perTrace - 5 here).
+    ASSERT_GT(perTrace, 5u);
+    const std::uint64_t start = (std::uint64_t(1) << 32) - 5;
+    gpuHot.setNonFiniteSamples(start);
+    gpuHot.trace(batch);
+    EXPECT_EQ(gpuHot.nonFiniteSamples(), start + perTrace);
+    gpuHot.setNonFiniteSamples((std::uint64_t(7) << 32) + 1);
+    gpuHot.trace(batch);
+    EXPECT_EQ(gpuHot.nonFiniteSamples(), (std::uint64_t(7) << 32) + 1 + perTrace);
 }
 
 /// Runs oas-render with arguments; returns the exit status.

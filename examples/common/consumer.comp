@@ -3,12 +3,14 @@
 // oas library and writes dims values for every (pixel, sample). consumer.cpp checks them against
 // the C++ twin (oas::sample) bit for bit.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #define OAS_NO_SOBOL  // this shader never receives a Sobol pattern
 #include "oas/oas.glsl"
 
-// One invocation per (pixel, sample), never a loop over samples: lavapipe silently ends an
-// invocation's loops after 65535 iterations in all.
-layout(local_size_x = 8, local_size_y = 4) in;  // the host dispatches (width / 8, height / 4, spp)
+// One invocation per pixel, looping over all of the pixel's samples and dimensions. The library's
+// loops all unroll, so they add nothing to lavapipe's silent cap of 65535 loop iterations per
+// invocation: only this shader's own loops count.
+layout(local_size_x = 8, local_size_y = 4) in;  // the host dispatches (width / 8, height / 4)
 
 layout(push_constant) uniform Params {
     OasPattern pattern;  // made by oas::makePattern (or oas_make_pattern in C), uploaded as is
@@ -23,25 +25,28 @@ layout(std430, binding = 0) writeonly buffer Samples { float values[]; };  // [p
 void main()
 {
     uint x = gl_GlobalInvocationID.x, y = gl_GlobalInvocationID.y;
-    uint sampleIndex = gl_GlobalInvocationID.z;
     uint seed = oas_pixel_seed(x, y, params.frameSeed);
-    uint base = ((y * params.width + x) * params.spp + sampleIndex) * params.dims;
+    uint base = (y * params.width + x) * params.spp * params.dims;  // value (s, dim) at base + s * dims + dim
 
-    // Baselines have no row state. oas_baseline_sample is oas_sample without the OA code, which
-    // the row API below already brings in (inlined twice, it made this program take 3.4 s instead
-    // of 2.0 s on lavapipe).
+    // Baselines have no block state: one call per value. (oas_baseline_sample is oas_sample
+    // without the OA code, which the calls below already bring in.)
     if (params.pattern.construction >= OAS_RANDOM) {
-        for (uint dim = 0u; dim < params.dims; ++dim)
-            values[base + dim] = oas_baseline_sample(params.pattern, seed, sampleIndex, dim);
+        for (uint s = 0u; s < params.spp; ++s)
+            for (uint dim = 0u; dim < params.dims; ++dim)
+                values[base + s * params.dims + dim] = oas_baseline_sample(params.pattern, seed, s, dim);
         return;
     }
-    // Dimension dim is column dim - block * blockDims of OA block dim / blockDims: make the row
-    // once per block and reuse it for the block's columns.
+    // OAs: dimension dim is column dim % blockDims of block dim / blockDims, and samples come in
+    // passes of N. What a (pass, block, column) shares is made once, so each sample costs only
+    // its own work.
     uint blockDims = params.pattern.blockDims;
-    for (uint block = 0u; block * blockDims < params.dims; ++block) {
-        OasRow row = oas_row(params.pattern, seed, sampleIndex, block);
-        uint first = block * blockDims;
-        for (uint dim = first; dim < min(params.dims, first + blockDims); ++dim)
-            values[base + dim] = oas_row_dim(params.pattern, row, dim - first);
+    for (uint dim = 0u; dim < params.dims; ++dim) {
+        uint block = dim / blockDims;
+        for (uint first = 0u; first < params.spp; first += params.pattern.N) {
+            OasBlock b = oas_block(params.pattern, seed, first, block);
+            OasColumn c = oas_column(params.pattern, b.seed, dim - block * blockDims);
+            for (uint s = first; s < min(params.spp, first + params.pattern.N); ++s)
+                values[base + s * params.dims + dim] = oas_column_dim(params.pattern, c, oas_block_row(b, s));
+        }
     }
 }

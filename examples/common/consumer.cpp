@@ -264,7 +264,7 @@ public:
         vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_.get());
         vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, layout_.get(), 0, 1, &set_, 0, nullptr);
         vkCmdPushConstants(cmd_, layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof params, &params);
-        vkCmdDispatch(cmd_, kWidth / 8, kHeight / 4, spp);
+        vkCmdDispatch(cmd_, kWidth / 8, kHeight / 4, 1);  // one invocation per pixel
         // The fence alone does not make shader writes visible to the host.
         VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
         toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
@@ -464,9 +464,12 @@ int runAll()
     std::printf("device: %s\n", gpu.deviceName().c_str());
     // Every OA construction, over prime, binary and odd extension fields, and two baselines; with
     // dims past one block where that is cheap. Strengths are given where the C API (which takes no
-    // dims) needs them to mean the same pattern.
+    // dims) needs them to mean the same pattern. One invocation evaluates all of its pixel's
+    // values: up to 1024 x 8 = 8192 here.
     const Case cases[] = {
         {{.sampler = "bose", .spp = 49, .dims = 12, .offset = "cmj"}, OAS_OFFSET_CMJ},
+        {{.sampler = "bose", .spp = 1024, .dims = 8, .offset = "cmj"}, OAS_OFFSET_CMJ},  // GF(2^5)
+        {{.sampler = "bose", .spp = 625, .dims = 8, .offset = "mj"}, OAS_OFFSET_MJ},     // GF(5^2)
         {{.sampler = "bose", .spp = 81, .dims = 6, .offset = "mj"}, OAS_OFFSET_MJ},  // GF(3^2)
         {{.sampler = "bose-bush", .spp = 32, .dims = 10, .offset = "cmj"}, OAS_OFFSET_CMJ},  // GF(2^3)
         {{.sampler = "addelman-kempthorne", .spp = 18, .dims = 9, .offset = "cmj"}, OAS_OFFSET_CMJ},

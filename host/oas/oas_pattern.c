@@ -180,6 +180,23 @@ const char* oas_construction_name(uint32_t construction)
 
 /* ---- patterns ----------------------------------------------------------------------------- */
 
+/* Whether the shaders can multiply in GF(p^k): an odd extension field's products run in one
+ * 32-bit word of k digit slots, each wide enough for 2k(p-1)^2 + 2(p-1) (oas_gf_slot_bits in
+ * shaders/oas/oas_gf.glsl). Of the fields with q <= 4096 this leaves out GF(3^6), GF(3^7), GF(5^5)
+ * and GF(7^4), which only sample counts of 531441 and more would use. */
+static int oasp_field_supported(uint32_t q, char* why, size_t whyLen)
+{
+    uint32_t p = 0, k = 0, bound, bits = 0;
+    oas_prime_power(q, &p, &k);
+    if (p == 2 || k == 1) return 1;
+    bound = 2 * k * (p - 1) * (p - 1) + 2 * (p - 1);
+    while (bound >> bits) ++bits;
+    if (k * bits <= 32) return 1;
+    oasp_say(why, whyLen, "q = %u = %u^%u: the shaders' fixed-work GF(%u^%u) arithmetic needs %u digit slots of %u bits, "
+             "more than 32", q, p, k, p, k, k, bits);
+    return 0;
+}
+
 static void oasp_set_field(OasPattern* pat, uint32_t q)
 {
     uint32_t p = 0, k = 0;
@@ -202,6 +219,7 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
         if (q * q != spp) { oasp_say(why, whyLen, "%u is not a square q^2", spp); return OAS_PATTERN_NOT_EXACT; }
         if (!oas_prime_power(q, NULL, NULL)) { oasp_say(why, whyLen, "q = %u is not a prime power", q); return OAS_PATTERN_NOT_EXACT; }
         if (q > OAS_MAX_BOSE_Q) { oasp_say(why, whyLen, "q = %u exceeds 4096", q); return OAS_PATTERN_NOT_EXACT; }
+        if (!oasp_field_supported(q, why, whyLen)) return OAS_PATTERN_NOT_EXACT;
         pat->s = q;
         pat->blockDims = q + 1;
         oasp_set_field(pat, q);
@@ -215,6 +233,7 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
         }
         if (!oas_prime_power(q, NULL, NULL)) { oasp_say(why, whyLen, "q = %u is not a prime power", q); return OAS_PATTERN_NOT_EXACT; }
         if (q < t) { oasp_say(why, whyLen, "bush needs q >= t (q = %u, t = %u)", q, t); return OAS_PATTERN_NOT_EXACT; }
+        if (!oasp_field_supported(q, why, whyLen)) return OAS_PATTERN_NOT_EXACT;
         pat->s = q;
         pat->blockDims = q + 1;
         pat->aux = spp / q; /* q^(t-1) */
@@ -230,6 +249,7 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
         if (!oas_prime_power(q, &p, &k)) p = 0;
         if (bb && p != 2) { oasp_say(why, whyLen, "q = %u is not a power of two", q); return OAS_PATTERN_NOT_EXACT; }
         if (!bb && (p == 0 || p == 2)) { oasp_say(why, whyLen, "q = %u is not an odd prime power", q); return OAS_PATTERN_NOT_EXACT; }
+        if (!oasp_field_supported(q, why, whyLen)) return OAS_PATTERN_NOT_EXACT;
         pat->s = q;
         pat->blockDims = 2 * q + 1;
         if (bb) {

@@ -91,6 +91,9 @@ public:
     /// Samples whose radiance was not finite (NaN or inf) since the last clear(): left out of the
     /// sums, counted here so that a render can report them (our scenes have none).
     std::uint64_t nonFiniteSamples() const;
+    /// Continues counting from `count` (a render resumed from an earlier one's count). The GPU
+    /// counts in 64 bits, so the count never wraps.
+    void setNonFiniteSamples(std::uint64_t count);
     void clear();
     /// Whether `pattern` runs on this tracer's pipeline (same construction, offset and field kind:
     /// the specialization constants); other pattern fields are push constants.

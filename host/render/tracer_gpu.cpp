@@ -47,7 +47,7 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     buffers_.push_back(upload(context_, std::vector<pt::PtGlobals>{data.globals}));
     buffers_.push_back(std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * 4 * sizeof(float)));
     buffers_.push_back(upload(context_, sobolDirections()));
-    buffers_.push_back(std::make_unique<vk::Buffer>(context_, sizeof(std::uint32_t)));  // non-finite count
+    buffers_.push_back(std::make_unique<vk::Buffer>(context_, 2 * sizeof(std::uint32_t)));  // non-finite count, 64 bits
     clear();
 }
 
@@ -129,9 +129,15 @@ void GpuTracer::clear()
 
 std::uint64_t GpuTracer::nonFiniteSamples() const
 {
-    std::uint32_t n = 0;
-    std::memcpy(&n, buffers_[7]->data(), sizeof n);
-    return n;
+    std::uint32_t words[2] = {0, 0};  // low, high (pt_render.comp)
+    std::memcpy(words, buffers_[7]->data(), sizeof words);
+    return std::uint64_t(words[1]) << 32 | words[0];
+}
+
+void GpuTracer::setNonFiniteSamples(std::uint64_t count)
+{
+    const std::uint32_t words[2] = {std::uint32_t(count), std::uint32_t(count >> 32)};
+    std::memcpy(buffers_[7]->data(), words, sizeof words);
 }
 
 void GpuTracer::trace(const SampleBatch& b)

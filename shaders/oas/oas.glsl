@@ -7,9 +7,19 @@
 // jittered-2D and CMJ-2D padded, Owen-scrambled (0,2) padded, randomized Halton).
 //
 // EMBEDDING
-//   The file has no #version, no bindings and no extension requirements of its own; including it
-//   needs GL_GOOGLE_include_directive (or paste the files in). Every public name starts with
-//   oas_, Oas or OAS_. It is plain GLSL 4.50 integer code: no 64-bit types, no float division.
+//   The file has no #version and no bindings. The including shader enables two extensions:
+//     #extension GL_GOOGLE_include_directive : require      (to #include it; or paste the files in)
+//     #extension GL_EXT_control_flow_attributes : require   (the library marks its loops [[unroll]])
+//   Every public name starts with oas_, Oas or OAS_. It is plain GLSL 4.50 integer code: no 64-bit
+//   types, no float division.
+//   Every loop in the library runs a fixed, compile-time number of times and is marked
+//   [[unroll]] (OAS_UNROLL), so the compiler turns it into straight-line code: the library adds
+//   no iterations to your shader's loops, whatever the pattern, and you may loop over a pixel's
+//   samples in one invocation as you like. (Lavapipe silently ends an invocation's loops after
+//   65535 iterations in all; tests/loop_free_test.cpp evaluates every construction, field kind,
+//   offset and baseline 4096+ times per invocation on it.) A compiler without
+//   GL_EXT_control_flow_attributes may #define OAS_UNROLL as nothing before the include; its own
+//   unrolling then decides whether the loops stay.
 //   The same files compile as C++ (host/oas/glsl_compat.hpp), so the CPU reference is this code.
 //   Before including, define either OAS_SOBOL_DIRECTION(dim, bit) (the Sobol baseline reads its
 //   direction numbers through it: oas::sobolDirections() on the host, in a buffer) or
@@ -45,31 +55,27 @@
 //         and field constants are made once, and each further value costs only its own work.
 //   OA constructions only (construction < OAS_RANDOM); baselines go through oas_sample.
 //
-// EXAMPLE 1 (another renderer's path-tracing shader: one invocation per pixel and sample)
+// EXAMPLE (one invocation per pixel, looping over all of its samples; the library adds no loop
+// iterations, so the loops may be as long as the renderer's own budget allows)
 //   #extension GL_GOOGLE_include_directive : require
+//   #extension GL_EXT_control_flow_attributes : require
 //   #define OAS_NO_SOBOL
 //   #include "oas/oas.glsl"
 //   layout(push_constant) uniform Params { OasPattern pattern; uint frameSeed; uint spp; } params;
 //   ...
-//   uint pixel = gl_GlobalInvocationID.x, s = gl_GlobalInvocationID.y;   // s < params.spp
-//   uint seed = oas_pixel_seed(pixel % width, pixel / width, params.frameSeed);
-//   float u[4];                       // fetch the dimensions you need at one call site
-//   OasRow row = oas_row(params.pattern, seed, s, 0u);           // dims 0..3 in block 0
-//   for (uint d = 0u; d < 4u; ++d) u[d] = oas_row_dim(params.pattern, row, d);
-//   vec2 pixelJitter = vec2(u[0], u[1]);
-//   vec2 lensUV = vec2(u[2], u[3]);
-//   (with p.blockDims < 4, or for baselines, use oas_sample(params.pattern, seed, s, d))
-//
-// EXAMPLE 2 (one invocation per pixel, looping over its samples: the per-pass state is hoisted)
-//   OasBlock b = oas_block(params.pattern, seed, 0u, 0u);    // samples [0, N) of block 0
-//   OasColumn c0 = oas_column(params.pattern, b.seed, 0u);
-//   OasColumn c1 = oas_column(params.pattern, b.seed, 1u);
-//   for (uint s = 0u; s < params.pattern.N; ++s) {
-//       OasRow row = oas_block_row(b, s);
-//       vec2 pixelJitter = vec2(oas_column_dim(params.pattern, c0, row), oas_column_dim(params.pattern, c1, row));
-//       ...
+//   uint seed = oas_pixel_seed(x, y, params.frameSeed);
+//   for (uint first = 0u; first < params.spp; first += params.pattern.N) {   // passes of N
+//       OasBlock b = oas_block(params.pattern, seed, first, 0u);            // dims 0, 1: block 0
+//       OasColumn c0 = oas_column(params.pattern, b.seed, 0u);
+//       OasColumn c1 = oas_column(params.pattern, b.seed, 1u);
+//       for (uint s = first; s < min(params.spp, first + params.pattern.N); ++s) {
+//           OasRow row = oas_block_row(b, s);
+//           vec2 pixelJitter = vec2(oas_column_dim(params.pattern, c0, row), oas_column_dim(params.pattern, c1, row));
+//           ...
+//       }
 //   }
-//   (sample indices >= N begin a new pass: make its OasBlock and OasColumns for index N, 2N, ...)
+//   The one-shot oas_sample(params.pattern, seed, s, dim) gives the same values (and is the way
+//   for baselines); oas_row + oas_row_dim share the row state across a block's dimensions.
 //
 // ADVICE
 //   - Bose CMJ correlates the partner columns (0,1), (2,3), ...: each such pair is Kensler's
@@ -77,17 +83,15 @@
 //     between opposite edges of the pair's square (N^-3 on periodic ones); MJ offsets give N^-2
 //     on both (docs/STUDY.md). Prefer MJ for smooth, non-periodic pairs.
 //   - Specialise the shader on the pattern kind (OAS_STATIC_CONSTRUCTION / _OFFSET / _FIELD_KIND,
-//     e.g. from specialization constants, see oas_pattern.glsl). Lavapipe runs both sides of every
-//     branch, so an unspecialised shader pays for every construction's code, loops included.
-//   - Loops and lavapipe's cap. Lavapipe silently ends an invocation's loops after 65535
-//     iterations in all. Specialised, the per-sample path of Bose and Addelman-Kempthorne over
-//     prime fields, and of every permutation, is loop-free. The loops that remain have trip
-//     counts fixed by the pattern, the same in every lane: Bush's t digits, CMJND's digit
-//     extraction (up to d per value), binary-field products (k per product, several per value),
-//     odd-extension-field arithmetic (~3k^2 per product) and the baselines' digit and bit loops
-//     (Halton, Sobol, (0,2)). An invocation that evaluates many values of those patterns must
-//     keep (values x loop iterations per value) under 65535. tests/loop_cap_test.cpp evaluates
-//     8712 Bose values in one invocation.
+//     e.g. from specialization constants, see oas_pattern.glsl) for speed: lavapipe runs both
+//     sides of every branch, so an unspecialised shader pays for every construction's code.
+//     Correctness does not depend on it.
+//   - Fixed work. Each loop's trip count is the largest case the numeric contract allows: 12 bits
+//     of a GF(2^k) element, 5 digits of an odd extension field's element, t <= 8 Bush digits, 12
+//     exponent bits of an inverse, 24 bits or digits of a sample index (Sobol, (0,2), Halton), 5
+//     exponent bits of CMJND's digit place. Steps past the pattern's own k, t or digit count are
+//     masked. A value therefore costs the same for every pattern of a kind, and lanes stay in
+//     lock step.
 //   - Fetch the dimensions you need at one call site (a loop over them), not at every use: GPU
 //     compilers inline the whole sampler wherever it is called, which made a path tracer's
 //     pipeline build take 20 s on lavapipe instead of 1.5 s (shaders/pt/pt_trace.glsl,
@@ -97,8 +101,10 @@
 //   Outputs are F * 2^-24 with integer F in [0, 2^24). A point promised to stratum m of K strata
 //   (K = s for the OA levels, K = N for the MJ/CMJ Latin-hypercube property) satisfies
 //   m/K <= x < (m+1)/K exactly, for K <= 2^24. All arithmetic is 32-bit unsigned and overflow-free
-//   for the ranges the host accepts: N <= 2^24, fields q < 2^16 (Bose q <= 4096), any 32-bit
-//   seed, pixel coordinate, dimension or sample index (index >= N starts a new randomized pass).
+//   for the ranges the host accepts: N <= 2^24, so fields q <= 4096 (every OA has N >= q^2; odd
+//   extension fields only where oas_gf_slots_fit, which leaves out GF(3^6), GF(3^7), GF(5^5) and
+//   GF(7^4)), any 32-bit seed, pixel coordinate, dimension or sample index (index >= N starts a
+//   new randomized pass).
 //
 // MAX DIMENSIONS, STRENGTH AND LATIN-HYPERCUBE PROPERTY PER CONSTRUCTION
 //   construction          N       dims/block  t   1D LHS (N strata) with offset
@@ -111,6 +117,10 @@
 //   block holds use further, independently randomized blocks (padding by blocks).
 #ifndef OAS_GLSL
 #define OAS_GLSL
+
+#ifndef OAS_UNROLL
+#define OAS_UNROLL [[unroll]]
+#endif
 
 #include "oas_hash.glsl"
 #include "oas_gf.glsl"

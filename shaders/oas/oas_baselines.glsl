@@ -3,6 +3,10 @@
 #ifndef OAS_BASELINES_GLSL
 #define OAS_BASELINES_GLSL
 
+/// Bits of a sample index within one pass (index < N <= 2^24): the fixed trip count of the
+/// per-bit loops below, whatever N is.
+const uint OAS_INDEX_BITS = 24u;
+
 /// Bit-reversed index: the van der Corput sequence in base 2 (Sobol dimension 0).
 uint oas_reverse_bits(uint v)
 {
@@ -19,10 +23,9 @@ uint oas_sobol_dim1(uint index)
 {
     uint v = 0x80000000u;
     uint x = 0u;
-    while (index != 0u) {
-        if ((index & 1u) != 0u) x ^= v;
+    OAS_UNROLL for (uint bit = 0u; bit < OAS_INDEX_BITS; ++bit) {
+        if (((index >> bit) & 1u) != 0u) x ^= v;
         v ^= v >> 1u;
-        index >>= 1u;
     }
     return x;
 }
@@ -33,7 +36,7 @@ uint oas_sobol_dim1(uint index)
 uint oas_owen_scramble24(uint x, uint seed)
 {
     uint result = x;
-    for (uint b = 0u; b < 24u; ++b) {
+    OAS_UNROLL for (uint b = 0u; b < 24u; ++b) {
         uint prefix = b == 0u ? 0u : x >> (32u - b);
         uint flip = oas_hash2(seed, prefix | (1u << b)) & 1u;
         result ^= flip << (31u - b);
@@ -77,10 +80,8 @@ const uint OAS_SOBOL_BLOCK = 1024u;
 uint oas_sobol(uint index, uint dim)
 {
     uint x = 0u;
-    for (uint bit = 0u; index != 0u; ++bit) {
-        if ((index & 1u) != 0u) x ^= OAS_SOBOL_DIRECTION(dim, bit);
-        index >>= 1u;
-    }
+    OAS_UNROLL for (uint bit = 0u; bit < 32u; ++bit)  // any 32-bit index: all 32 direction numbers
+        if (((index >> bit) & 1u) != 0u) x ^= OAS_SOBOL_DIRECTION(dim, bit);
     return x;
 }
 #endif
@@ -112,17 +113,18 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
         // the permutations are the affine maps d -> a d + b mod base (a != 0), the sharply
         // 2-transitive family (see oas_levels_form_prime_field): the pair statistics, and so the
         // variance, of uniformly random digit permutations, for one multiply and one remainder.
+        // At most OAS_INDEX_BITS digits (base 2, N = 2^24): a fixed loop, the unused steps masked.
         uint strata = 1u;
         uint m = 0u;
-        uint digitIndex = 0u;
-        while (strata < pat.N && strata <= OAS_ONE_FIXED / base) {
-            uint d = i % base;
-            i /= base;
-            uint key = oas_hash2(dimSeed, digitIndex);
-            uint pd = ((1u + oas_mulhi(key, base - 1u)) * d + oas_mulhi(oas_pcg(key), base)) % base;
-            m = m * base + pd;  // digit k lands at base^-(k+1): reversed order builds m
-            strata *= base;
-            digitIndex += 1u;
+        OAS_UNROLL for (uint digitIndex = 0u; digitIndex < OAS_INDEX_BITS; ++digitIndex) {
+            if (strata < pat.N && strata <= OAS_ONE_FIXED / base) {
+                uint d = i % base;
+                i /= base;
+                uint key = oas_hash2(dimSeed, digitIndex);
+                uint pd = ((1u + oas_mulhi(key, base - 1u)) * d + oas_mulhi(oas_pcg(key), base)) % base;
+                m = m * base + pd;  // digit k lands at base^-(k+1): reversed order builds m
+                strata *= base;
+            }
         }
         return oas_stratum_point(m, strata, oas_hash2(dimSeed ^ OAS_TAG_JITTER, index));
     }

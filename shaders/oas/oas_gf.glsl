@@ -1,9 +1,15 @@
 // oas_gf.glsl - arithmetic in the finite field GF(p^k), computed on the fly (no tables).
 // Part of the oas GLSL library; include "oas.glsl" rather than this file.
+//
+// Fixed work: every loop here runs a compile-time number of times (OAS_GF_MAX_BINARY_K or
+// OAS_GF_MAX_ODD_K steps, whatever the field's k) and is marked OAS_UNROLL, so it unrolls into
+// straight-line code. A digit or bit above the field's k is zero and leaves the result unchanged,
+// which is what lets one fixed-length loop serve every k. (Lavapipe ends an invocation's loops
+// after 65535 iterations in all; straight-line code costs none of them.)
 #ifndef OAS_GF_GLSL
 #define OAS_GF_GLSL
 
-/// A finite field GF(q), q = p^k < 2^16. Elements are the integers [0, q): the base-p digits of
+/// A finite field GF(q), q = p^k <= 4096. Elements are the integers [0, q): the base-p digits of
 /// an element are the coefficients of a polynomial over GF(p) (digit i <-> x^i). Products are
 /// reduced modulo a monic irreducible polynomial f(x) = x^k - g(x); `poly` packs g's k
 /// coefficients as base-p digits, so x^k == g(x). The host finds g once per (p, k) (a primitive
@@ -29,28 +35,98 @@ const uint OAS_FIELD_ODD_EXTENSION = 2u; ///< p odd, k > 1
 #define OAS_FIELD_IS_BINARY(f) ((f).p == 2u)
 #endif
 
+/// The largest degrees the constructions use: every OA has N >= q^2 and N <= 2^24, so q <= 4096,
+/// which is 2^12 and 3^7. The host refuses odd extension fields whose digit slots (below) do not
+/// fit 32 bits, which leaves k <= 5 for p = 3 (OAS_GF_MAX_ODD_K covers every odd field).
+const uint OAS_GF_MAX_BINARY_K = 12u;
+const uint OAS_GF_MAX_ODD_K = 5u;
+/// Exponents of oas_gf_pow are below 2^OAS_GF_POW_BITS (q - 2 < 4096 for inverses).
+const uint OAS_GF_POW_BITS = 12u;
+
 /// a mod p and a / p via the field's reciprocal.
 uint oas_gf_divp(OasField f, uint a) { return oas_fastdiv(a, f.recipP, f.shiftP); }
 
-/// y + c * a with digit-wise arithmetic mod p (a polynomial axpy over GF(p)); c < p.
-uint oas_gf_axpy(OasField f, uint y, uint a, uint c)
+/// Width in bits of one digit slot of the packed form oas_gf_mul_add2 computes in: slot values
+/// there stay below 2 k (p-1)^2 + 2 (p-1), so a slot is that many bits wide; the host accepts an
+/// odd extension field only when k slots fit one 32-bit word (oas_gf_slots_fit).
+uint oas_gf_slot_bits(OasField f)
+{
+    uint pm1 = f.p - 1u;
+    return uint(findMSB(2u * f.k * pm1 * pm1 + 2u * pm1)) + 1u;
+}
+
+/// Whether GF(p^k), p odd, has packed digit slots that fit 32 bits (see oas_gf_slot_bits).
+bool oas_gf_slots_fit(OasField f) { return f.k * oas_gf_slot_bits(f) <= 32u; }
+
+/// The base-p digits of a (< q) in slots of `bits` bits: digit i at bit i * bits.
+uint oas_gf_spread(OasField f, uint a, uint bits)
+{
+    uint packed = 0u;
+    uint shift = 0u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
+        uint next = oas_gf_divp(f, a);
+        packed |= (a - next * f.p) << shift;  // digits past the field's k are 0
+        a = next;
+        shift = min(shift + bits, 31u);       // stays a valid shift; only zeros go there
+    }
+    return packed;
+}
+
+/// a * b + y + extra in GF(p^k) for odd p and k > 1, in fixed work. The digits of a sit in slots of a
+/// 32-bit word (a polynomial over GF(p) evaluated at 2^bits), and Horner's rule over b's digits,
+/// most significant first, runs on the whole word at once: shift every slot up one place, fold
+/// the digit that leaves the top slot back in through x^k = g(x), and add b's digit times a.
+/// Slots are reduced mod p only where needed: the digit leaving the top (exactly, by one
+/// division), and every slot once at the end. In between they grow by at most 2 (p-1)^2 per step
+/// over at most k steps, which is what oas_gf_slot_bits makes room for.
+uint oas_gf_mul_add2_odd(OasField f, uint a, uint b, uint y, uint extra)
+{
+    uint bits = oas_gf_slot_bits(f);
+    uint slotMask = (1u << bits) - 1u;
+    uint topShift = bits * (f.k - 1u);
+    uint belowTop = (1u << topShift) - 1u;
+    uint packedA = oas_gf_spread(f, a, bits);
+    uint packedG = oas_gf_spread(f, f.poly, bits);
+    uint packedB = oas_gf_spread(f, b, bits);
+    uint acc = 0u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
+        uint place = OAS_GF_MAX_ODD_K - 1u - i;  // b's digit, most significant first
+        uint digitShift = bits * place;
+        uint digit = place < f.k ? (packedB >> digitShift) & slotMask : 0u;
+        uint top = acc >> topShift;  // the slot of x^(k-1), unreduced
+        top -= oas_gf_divp(f, top) * f.p;
+        acc = ((acc & belowTop) << bits) + top * packedG + digit * packedA;
+    }
+    // Reduce every slot mod p, add y's and extra's digits, and read the digits back out base p.
+    uint result = 0u;
+    uint power = 1u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
+        uint yNext = oas_gf_divp(f, y);
+        uint extraNext = oas_gf_divp(f, extra);
+        uint slot = (acc & slotMask) + (y - yNext * f.p) + (extra - extraNext * f.p);
+        result += (slot - oas_gf_divp(f, slot) * f.p) * power;  // past k: 0 * an unused power
+        acc >>= bits;
+        power *= f.p;
+        y = yNext;
+        extra = extraNext;
+    }
+    return result;
+}
+
+/// a * b in GF(2^k) by Horner's rule over b's bits, most significant first; b's bits past k
+/// are zero and leave the product 0 until its top bit.
+uint oas_gf_mul_binary(OasField f, uint a, uint b)
 {
     uint r = 0u;
-    uint place = 1u;
-    for (uint i = 0u; i < f.k; ++i) {
-        uint yNext = oas_gf_divp(f, y);
-        uint aNext = oas_gf_divp(f, a);
-        uint d = (y - yNext * f.p) + c * (a - aNext * f.p);  // < p + p^2 < 2^32
-        d -= oas_gf_divp(f, d) * f.p;
-        r += d * place;
-        place *= f.p;
-        y = yNext;
-        a = aNext;
+    uint top = f.q >> 1u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_BINARY_K; ++i) {
+        uint bit = (b >> (OAS_GF_MAX_BINARY_K - 1u - i)) & 1u;
+        r = (((r << 1u) & (f.q - 1u)) ^ (r >= top ? f.poly : 0u)) ^ (bit != 0u ? a : 0u);
     }
     return r;
 }
 
-/// a + b in GF(q).
+/// a + b in GF(q). Odd extensions add digit by digit mod p.
 uint oas_gf_add(OasField f, uint a, uint b)
 {
     if (OAS_FIELD_IS_PRIME(f)) {
@@ -58,72 +134,64 @@ uint oas_gf_add(OasField f, uint a, uint b)
         return s >= f.p ? s - f.p : s;
     }
     if (OAS_FIELD_IS_BINARY(f)) return a ^ b;
-    return oas_gf_axpy(f, a, b, 1u);
+    uint result = 0u;
+    uint power = 1u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
+        uint aNext = oas_gf_divp(f, a);
+        uint bNext = oas_gf_divp(f, b);
+        uint d = (a - aNext * f.p) + (b - bNext * f.p);
+        result += (d >= f.p ? d - f.p : d) * power;
+        power *= f.p;
+        a = aNext;
+        b = bNext;
+    }
+    return result;
 }
 
-/// -a in GF(q).
+/// -a in GF(q): each digit d becomes (p - d) mod p.
 uint oas_gf_neg(OasField f, uint a)
 {
     if (OAS_FIELD_IS_PRIME(f)) return a == 0u ? 0u : f.p - a;
     if (OAS_FIELD_IS_BINARY(f)) return a;
-    return oas_gf_axpy(f, 0u, a, f.p - 1u);
-}
-
-/// a * x mod f(x): shift the digits up one place and fold the overflowing digit back via g.
-uint oas_gf_mulx(OasField f, uint a)
-{
-    if (OAS_FIELD_IS_BINARY(f)) {
-        uint shifted = (a << 1u) & (f.q - 1u);
-        return a >= (f.q >> 1u) ? shifted ^ f.poly : shifted;
+    uint result = 0u;
+    uint power = 1u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
+        uint next = oas_gf_divp(f, a);
+        uint d = a - next * f.p;
+        result += (d == 0u ? 0u : f.p - d) * power;
+        power *= f.p;
+        a = next;
     }
-    uint top = a;  // the digit of x^(k-1): k-1 divisions by p
-    for (uint i = 1u; i < f.k; ++i) top = oas_gf_divp(f, top);
-    uint placeTop = oas_gf_divp(f, f.q);  // p^(k-1)
-    return oas_gf_axpy(f, (a - top * placeTop) * f.p, f.poly, top);
+    return result;
 }
 
-/// a * b in GF(q), by Horner's rule over the digits of b (most significant first).
-/// Prime fields take one multiply and one remainder (a, b < p < 2^16, so a*b < 2^32).
-uint oas_gf_mul(OasField f, uint a, uint b)
+/// a * b + y + extra in GF(q): one product and two sums for the price of the product.
+uint oas_gf_mul_add2(OasField f, uint a, uint b, uint y, uint extra)
 {
     if (OAS_FIELD_IS_PRIME(f)) {
-        uint product = a * b;
-        return product - oas_gf_divp(f, product) * f.p;
+        uint v = a * b + y + extra;  // < p^2 + 2p <= 2^32 for p < 2^16
+        return v - oas_gf_divp(f, v) * f.p;
     }
-    uint r = 0u;
-    if (OAS_FIELD_IS_BINARY(f)) {
-        for (uint i = f.k; i > 0u; --i) {
-            r = oas_gf_mulx(f, r);
-            if (((b >> (i - 1u)) & 1u) != 0u) r ^= a;
-        }
-        return r;
-    }
-    // Odd extension: b's digits least significant first, then Horner from the top one.
-    uint digits = 0u;  // b's digits reversed (base p), so Horner can pop them most significant first
-    uint rest = b;
-    for (uint i = 0u; i < f.k; ++i) {
-        uint next = oas_gf_divp(f, rest);
-        digits = digits * f.p + (rest - next * f.p);
-        rest = next;
-    }
-    for (uint i = 0u; i < f.k; ++i) {
-        uint next = oas_gf_divp(f, digits);
-        uint digit = digits - next * f.p;
-        digits = next;
-        r = oas_gf_axpy(f, oas_gf_mulx(f, r), a, digit);
-    }
-    return r;
+    if (OAS_FIELD_IS_BINARY(f)) return oas_gf_mul_binary(f, a, b) ^ y ^ extra;
+    return oas_gf_mul_add2_odd(f, a, b, y, extra);
 }
 
-/// a^e in GF(q) by square-and-multiply.
+/// a * b + y in GF(q).
+uint oas_gf_mul_add(OasField f, uint a, uint b, uint y) { return oas_gf_mul_add2(f, a, b, y, 0u); }
+
+/// a * b in GF(q). Prime fields take one multiply and one remainder (a, b < p < 2^16).
+uint oas_gf_mul(OasField f, uint a, uint b) { return oas_gf_mul_add2(f, a, b, 0u, 0u); }
+
+/// a * x mod f(x) (x is the element p; for k = 1 it is 0, and so is the product).
+uint oas_gf_mulx(OasField f, uint a) { return oas_gf_mul(f, a, OAS_FIELD_IS_PRIME(f) ? 0u : f.p); }
+
+/// a^e in GF(q) for e < 2^OAS_GF_POW_BITS, by square-and-multiply over e's bits from the top.
 uint oas_gf_pow(OasField f, uint a, uint e)
 {
     uint result = 1u;
-    uint base = a;
-    while (e != 0u) {
-        if ((e & 1u) != 0u) result = oas_gf_mul(f, result, base);
-        base = oas_gf_mul(f, base, base);
-        e >>= 1u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_GF_POW_BITS; ++i) {
+        result = oas_gf_mul(f, result, result);
+        if (((e >> (OAS_GF_POW_BITS - 1u - i)) & 1u) != 0u) result = oas_gf_mul(f, result, a);
     }
     return result;
 }

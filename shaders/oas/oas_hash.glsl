@@ -161,7 +161,7 @@ uint oas_ceil_fixed24(uint m, uint K)
     if ((K & (K - 1u)) == 0u) return m << (24u - uint(findMSB(K)));  // power of two: exact shift
     uint q = 0u;
     uint r = m;
-    for (uint step = 0u; step < 3u; ++step) {
+    OAS_UNROLL for (uint step = 0u; step < 3u; ++step) {
         r <<= 8u;
         uint d = r / K;
         q = (q << 8u) | d;
@@ -204,8 +204,5 @@ float oas_stratum_point_fast(uint m, uint K, uint recip, uint l, uint u)
     uint hi = r2 != 0u ? q2 + 1u : q2;
     return float(lo + oas_mulhi(hi - lo, u)) * OAS_INV_2POW24;
 }
-
-/// The 24-bit fixed-point integer behind a float the library returned (x * 2^24, exact).
-uint oas_fixed24_of(float x) { return uint(x * 16777216.0); }
 
 #endif // OAS_HASH_GLSL

@@ -15,28 +15,48 @@ OasField oas_pattern_field(OasPattern pat)
     return f;
 }
 
-/// Bush: the level of column `col` (< q) and the leading coefficient c_{t-1}, for the row with
-/// base-q digits c_0..c_{t-1}; the polynomial is evaluated from c_0 up with running powers x^i.
-uint oas_bush_level(OasPattern pat, OasField f, uint row, uint col)
+/// Bush's largest strength: q^t <= 2^24 with q >= t leaves t <= 8 (8^8 = 2^24).
+const uint OAS_MAX_BUSH_T = 8u;
+
+/// 1 * base^e for e < 32 (square-and-multiply over e's five bits; no overflow check: callers keep
+/// the result below 2^32).
+uint oas_uint_pow(uint base, uint e)
 {
-    uint v = 0u;
-    uint power = 1u;  // col^i
-    uint digit = 0u;
-    for (uint i = 0u; i < pat.strength; ++i) {
-        uint next = oas_div_s(pat, row);
-        digit = row - next * pat.s;
-        row = next;
-        v = oas_gf_add(f, v, oas_gf_mul(f, digit, power));
-        power = oas_gf_mul(f, power, col);
+    uint result = 1u;
+    OAS_UNROLL for (uint i = 0u; i < 5u; ++i) {
+        result *= result;
+        if (((e >> (4u - i)) & 1u) != 0u) result *= base;
     }
-    return col == pat.s ? digit : v;  // column q is the leading coefficient
+    return result;
 }
 
-/// Base-s digit `col` of `row` (CMJND).
+/// Bush: the level of column `col` (< q) for the row with base-q digits c_0..c_{t-1}: the
+/// polynomial sum c_i col^i, by Horner's rule from c_{t-1} down. Column q is the leading
+/// coefficient c_{t-1}. Two fixed loops of OAS_MAX_BUSH_T steps: the first reverses the t digits
+/// (rev < q^t = N), the second pops them most significant first.
+uint oas_bush_level(OasPattern pat, OasField f, uint row, uint col)
+{
+    if (col == pat.s) return row / pat.aux;  // aux = q^(t-1)
+    uint reversed = 0u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_MAX_BUSH_T; ++i) {
+        uint next = oas_div_s(pat, row);
+        if (i < pat.strength) reversed = reversed * pat.s + (row - next * pat.s);
+        row = next;
+    }
+    uint v = 0u;
+    OAS_UNROLL for (uint i = 0u; i < OAS_MAX_BUSH_T; ++i) {
+        uint next = oas_div_s(pat, reversed);
+        if (i < pat.strength) v = oas_gf_mul_add(f, v, col, reversed - next * pat.s);
+        reversed = next;
+    }
+    return v;
+}
+
+/// Base-s digit `col` of `row` (CMJND): (row / s^col) mod s, in fixed work for any col.
 uint oas_digit(OasPattern pat, uint row, uint col)
 {
-    for (uint d = 0u; d < col; ++d) row = oas_div_s(pat, row);
-    return row - oas_div_s(pat, row) * pat.s;
+    uint quotient = row / oas_uint_pow(pat.s, col);
+    return quotient - oas_div_s(pat, quotient) * pat.s;
 }
 
 /// The part of a column's levels that depends on the column alone: Addelman-Kempthorne's half-1
@@ -49,11 +69,13 @@ uint oas_oa_column_constant(OasPattern pat, uint col)
     OasField f = oas_pattern_field(pat);
     uint q = pat.s;
     uint k = pat.aux;
-    uint kMinus1 = oas_gf_add(f, k, oas_gf_neg(f, 1u));
+    uint kMinus1 = oas_gf_add(f, k, f.p - 1u);  // p - 1 is the element -1
     uint four = oas_gf_int(f, 4u);
-    if (col <= q) return oas_gf_mul(f, kMinus1, oas_gf_inv(f, oas_gf_mul(f, four, oas_gf_mul(f, k, col - 1u))));
-    uint m = col - 1u - q;
-    return oas_gf_mul(f, oas_gf_mul(f, oas_gf_mul(f, m, m), kMinus1), oas_gf_inv(f, four));
+    // One inverse either way (it is the costly part: a fixed square-and-multiply).
+    uint m = col <= q ? col - 1u : col - 1u - q;
+    uint numerator = col <= q ? kMinus1 : oas_gf_mul(f, oas_gf_mul(f, m, m), kMinus1);
+    uint denominator = col <= q ? oas_gf_mul(f, four, oas_gf_mul(f, k, m)) : four;
+    return oas_gf_mul(f, numerator, oas_gf_inv(f, denominator));
 }
 
 /// Level (in [0, s)) of row `row` (< N), column `col` (< blockDims) of the un-randomized array.
@@ -68,8 +90,9 @@ uint oas_oa_column_constant(OasPattern pat, uint col)
 /// Addelman-Kempthorne: row = h*q^2 + i*q + j (h in {0,1}); with a non-square k of GF(q):
 ///   column 0 = j; column 1+m = i + m j (+ (k-1)/(4km) in half h=1, m != 0);
 ///   column 1+q+m = i^2 + m i + j (h=0) or k i^2 + k m i + j + m^2 (k-1)/4 (h=1).
-///   (The half-1 constants make quadratic character sums cancel pair by pair; derivation in
-///   docs/CONSTRUCTIONS.md.)
+///   (The half-1 constants make quadratic character sums cancel pair by pair: Addelman and
+///   Kempthorne, "Some main-effect plans and orthogonal arrays of strength two", Ann. Math.
+///   Statist. 32, 1961.)
 /// CMJND: column j is base-s digit j of the row (the full factorial).
 /// `columnConstant` is oas_oa_column_constant(pat, col), which depends on the column only.
 uint oas_oa_level_with(OasPattern pat, uint row, uint col, uint columnConstant)
@@ -82,7 +105,7 @@ uint oas_oa_level_with(OasPattern pat, uint row, uint col, uint columnConstant)
         uint b = row - a * q;
         if (col == 0u) return a;
         if (col == 1u) return b;
-        return oas_gf_add(f, a, oas_gf_mul(f, col - 1u, b));
+        return oas_gf_mul_add(f, col - 1u, b, a);
     }
     if (construction == OAS_BUSH) return oas_bush_level(pat, f, row, col);
     if (construction == OAS_BOSE_BUSH) {
@@ -97,13 +120,10 @@ uint oas_oa_level_with(OasPattern pat, uint row, uint col, uint columnConstant)
         uint h = oas_div_s(pat, hi);
         uint i = hi - h * q;
         if (col == 0u) return j;
-        if (col <= q) {
-            uint v = oas_gf_add(f, i, oas_gf_mul(f, col - 1u, j));
-            return h == 1u ? oas_gf_add(f, v, columnConstant) : v;
-        }
-        uint quad = oas_gf_add(f, oas_gf_mul(f, i, i), oas_gf_mul(f, col - 1u - q, i));
-        if (h == 0u) return oas_gf_add(f, quad, j);
-        return oas_gf_add(f, oas_gf_add(f, oas_gf_mul(f, pat.aux, quad), j), columnConstant);
+        uint constant = h == 1u ? columnConstant : 0u;
+        if (col <= q) return oas_gf_mul_add2(f, col - 1u, j, i, constant);
+        uint quad = oas_gf_mul(f, i, oas_gf_add(f, i, col - 1u - q));  // i^2 + m i
+        return oas_gf_mul_add2(f, h == 1u ? pat.aux : 1u, quad, j, constant);
     }
     return oas_digit(pat, row, col);  // OAS_CMJND
 }
@@ -127,12 +147,12 @@ uint oas_oa_sublevel(OasPattern pat, uint row, uint col)
     if (construction == OAS_BOSE) {
         uint partner = col ^ 1u;
         if (partner >= q + 1u) partner = 0u;  // q even: the last column pairs with column 0
-        return oas_oa_level(pat, row, partner);
+        return oas_oa_level_with(pat, row, partner, 0u);  // Bose has no column constants
     }
     if (construction == OAS_BUSH) {
         // Given the level, the higher digits fix c_0 (x_j^0 = 1); for the leading-coefficient
         // column the lower t-1 digits are free.
-        if (col == q) return row - oas_bush_level(pat, oas_pattern_field(pat), row, col) * pat.aux;
+        if (col == q) return row - (row / pat.aux) * pat.aux;
         return oas_div_s(pat, row);
     }
     if (construction == OAS_BOSE_BUSH) {
@@ -148,16 +168,9 @@ uint oas_oa_sublevel(OasPattern pat, uint row, uint col)
         return hi;                                     // j, and the quadratic columns: i fixes j
     }
     // OAS_CMJND: the row with digit `col` removed.
-    uint high = row;
-    uint low = 0u;
-    uint place = 1u;
-    for (uint d = 0u; d < col; ++d) {
-        uint next = oas_div_s(pat, high);
-        low += (high - next * q) * place;
-        place *= q;
-        high = next;
-    }
-    return oas_div_s(pat, high) * place + low;
+    uint place = oas_uint_pow(q, col);
+    uint quotient = row / place;
+    return oas_div_s(pat, quotient) * place + (row - quotient * place);
 }
 
 // Seed tags: fixed odd constants that separate the random streams of one dimension.

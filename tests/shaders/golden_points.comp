@@ -4,6 +4,7 @@
 // invocation per value and no specialisation: a single pipeline serves every construction (the
 // specialised kernel's agreement with the CPU twin is GpuCpu's job).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 layout(std430, binding = 2) readonly buffer SobolDirections { uint sobolDirections[]; };
 #define OAS_SOBOL_DIRECTION(dim, bit) sobolDirections[(dim) * 32u + (bit)]
 #include "oas/oas.glsl"

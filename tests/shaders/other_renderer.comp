@@ -7,6 +7,7 @@
 // oas_sample() values next to its own hash() values. Compiled by tests/embedding_test.cpp:
 //   glslangValidator --target-env vulkan1.1 -I<repo>/shaders other_renderer.comp
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 
 layout(local_size_x = 64) in;
 
