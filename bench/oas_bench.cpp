@@ -36,6 +36,50 @@ struct Row {
     const char* offset;
 };
 
+/// What specialising the kernel on the pattern kind buys: the same generation kernel built without
+/// OAS_STATIC_* (every construction, offset and field kind decided at run time), against the
+/// specialised one, alternated per repeat; and the pipeline build time of each. Correctness does
+/// not depend on specialisation (tests/loop_free_test.cpp); speed and build time do.
+void printSpecialisationCost(oas::vk::Context& context, std::uint32_t pixels, std::uint32_t dims, int repeats)
+{
+    // Both generators start empty, so each row's first run builds its specialised pipeline; the
+    // unspecialised one is built by the first row only and serves every pattern.
+    oas::GpuGenerator specialised(context), unspecialised(context, oas::GpuGenerator::Kernel::Unspecialised);
+    const std::vector<Row> rows = {{"bose", 121, 0, "cmj"}, {"bose", 64, 0, "cmj"}, {"addelman-kempthorne", 162, 0, "cmj"},
+                                   {"halton", 121, 0, "cmj"}};
+    std::printf("\nspecialisation (GPU M/s; the unspecialised kernel builds once for every pattern)\n");
+    std::printf("%-34s %14s %14s %8s %12s %12s\n", "sampler", "specialised", "unspecialised", "ratio", "build spec s",
+                "build unsp s");
+    for (const Row& row : rows) {
+        const oas::Pattern pattern = oas::makePattern({row.sampler, row.spp, dims, row.strength, row.offset});
+        oas::SampleRequest r;
+        r.width = pixels;
+        r.height = 1;
+        r.spp = pattern.N;
+        r.dims = dims;
+        const double sampleDims = double(pixels) * r.spp * dims;
+        double builds[2];
+        oas::GpuGenerator* kernels[2] = {&specialised, &unspecialised};
+        for (int k = 0; k < 2; ++k) {  // warm-up, timing the pipeline builds
+            const double before = kernels[k]->pipelineBuildSeconds();
+            kernels[k]->run(pattern, r);
+            builds[k] = kernels[k]->pipelineBuildSeconds() - before;
+        }
+        std::vector<double> seconds[2];
+        for (int i = 0; i < repeats; ++i)
+            for (int k = 0; k < 2; ++k) seconds[k].push_back(medianSeconds(1, [&] { kernels[k]->run(pattern, r); }));
+        double rates[2];
+        for (int k = 0; k < 2; ++k) {
+            std::sort(seconds[k].begin(), seconds[k].end());
+            rates[k] = sampleDims / seconds[k][seconds[k].size() / 2] / 1e6;
+        }
+        const std::string label = oas::describe(pattern).substr(0, 34);
+        std::printf("%-34s %14.1f %14.1f %8.2f %12.2f %12.2f\n", label.c_str(), rates[0], rates[1], rates[1] / rates[0],
+                    builds[0], builds[1]);
+        std::fflush(stdout);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -71,7 +115,7 @@ int main(int argc, char** argv)
         try {
             context = std::make_unique<oas::vk::Context>();
             gpu = std::make_unique<oas::GpuGenerator>(*context);
-            hashOnly = std::make_unique<oas::GpuGenerator>(*context, true);
+            hashOnly = std::make_unique<oas::GpuGenerator>(*context, oas::GpuGenerator::Kernel::HashOnly);
         } catch (const oas::vk::NoDeviceError& e) {
             std::printf("GPU: SKIPPED (no Vulkan device: %s)\n", e.what());
         }
@@ -150,5 +194,6 @@ int main(int argc, char** argv)
             std::fflush(stdout);
         }
     }
+    if (gpu && only.empty()) printSpecialisationCost(*context, pixels, dims, repeats);
     return 0;
 }

@@ -14,13 +14,16 @@
 
 // Specialised per pattern kind (the host sets these from the pattern), so the branches of the
 // other constructions, offsets and field kinds fold away: lavapipe executes both sides of every
-// branch, and unspecialised the kernel runs ~20x slower there.
+// branch. OAS_UNSPECIALISED (a -D define) builds the kernel without them, for the benchmark's
+// figure of what specialisation buys (docs/BENCHMARKS.md).
+#ifndef OAS_UNSPECIALISED
 layout(constant_id = 0) const uint oasSpecConstruction = 1u;
 layout(constant_id = 1) const uint oasSpecOffset = 3u;
 layout(constant_id = 2) const uint oasSpecFieldKind = 0u;
 #define OAS_STATIC_CONSTRUCTION oasSpecConstruction
 #define OAS_STATIC_OFFSET oasSpecOffset
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
+#endif
 // The Sobol baseline's direction numbers (oas::sobolDirections(), 1024 dims x 32 bits).
 layout(std430, binding = 1) readonly buffer SobolDirections { uint sobolDirections[]; };
 #define OAS_SOBOL_DIRECTION(dim, bit) sobolDirections[(dim) * 32u + (bit)]

@@ -40,7 +40,7 @@ std::uint32_t countNear128(const SamplerSpec& s, std::uint32_t dims)
 std::string runCostStudy(const CostOptions& o, const std::vector<SamplerSpec>& samplers, oas::vk::Context& context)
 {
     const auto t0 = std::chrono::steady_clock::now();
-    oas::GpuGenerator gpu(context), hashOnly(context, true);
+    oas::GpuGenerator gpu(context), hashOnly(context, oas::GpuGenerator::Kernel::HashOnly);
     const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
     CsvTable csv({"sampler", "pattern", "spp", "pixels", "dims", "cpu1_msd_per_s", "cpu_all_msd_per_s", "cpu_threads",
                   "gpu_msd_per_s", "gpu_hash_only_msd_per_s", "gpu_over_hash"});

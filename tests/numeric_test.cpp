@@ -113,6 +113,18 @@ TEST(FastDivision, EqualsHardwareDivision)
     }
 }
 
+TEST(FastDivision, ShaderMadeReciprocalsEqualTheHostsForEveryDivisorUpTo2Pow16)
+{
+    // Halton makes its bases' reciprocals in the shader (oas_fastdiv_recip, two 32-bit divisions);
+    // they must be the host's 64-bit Granlund-Montgomery constants exactly.
+    for (std::uint32_t d = 1; d <= 65536; ++d) {
+        const oas::Divisor div = oas::makeDivisor(d);
+        const std::uint32_t shift = std::uint32_t(oas::glsl::findMSB(d - 1)) + 1u;
+        ASSERT_EQ(shift, div.shift) << d;
+        ASSERT_EQ(oas::glsl::oas_fastdiv_recip(d, shift), div.recip) << d;
+    }
+}
+
 /// Exact real-number check: x = F / 2^24 lies in [m / K, (m + 1) / K) iff m 2^24 <= F K < (m + 1) 2^24.
 void expectInsideStratum(float x, std::uint32_t m, std::uint32_t K)
 {

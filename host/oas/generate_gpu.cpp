@@ -7,6 +7,7 @@
 #include "oas/glsl_compat.hpp"
 #include "oas_generate_spv.h"
 #include "oas_generate_hash_only_spv.h"
+#include "oas_generate_unspecialised_spv.h"
 
 namespace oas {
 namespace {
@@ -55,20 +56,24 @@ Layout layoutFor(const Pattern& p, const SampleRequest& r)
 }
 }  // namespace
 
-GpuGenerator::GpuGenerator(vk::Context& context, bool hashOnly) : context_(context), hashOnly_(hashOnly) {}
+GpuGenerator::GpuGenerator(vk::Context& context, Kernel kernel) : context_(context), kernel_(kernel) {}
 
 vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
 {
-    const auto key = hashOnly_ ? std::make_tuple(0u, 0u, 0u) : oas::specializationKey(pattern);
+    const bool specialised = kernel_ == Kernel::Specialised;
+    const auto key = specialised ? oas::specializationKey(pattern) : std::make_tuple(0u, 0u, 0u);
     auto& slot = pipelines_[key];
     if (!slot) {
-        const std::uint32_t* code = hashOnly_ ? oas_generate_hash_only_spv : oas_generate_spv;
-        const std::size_t bytes = hashOnly_ ? sizeof(oas_generate_hash_only_spv) : sizeof(oas_generate_spv);
-        const vk::ComputePipeline::SpecConstants spec = {
-            {0, std::get<0>(key)}, {1, std::get<1>(key)}, {2, std::get<2>(key)}};
+        const std::uint32_t* code = kernel_ == Kernel::HashOnly        ? oas_generate_hash_only_spv
+                                    : kernel_ == Kernel::Unspecialised ? oas_generate_unspecialised_spv
+                                                                       : oas_generate_spv;
+        const std::size_t bytes = kernel_ == Kernel::HashOnly        ? sizeof(oas_generate_hash_only_spv)
+                                  : kernel_ == Kernel::Unspecialised ? sizeof(oas_generate_unspecialised_spv)
+                                                                     : sizeof(oas_generate_spv);
+        vk::ComputePipeline::SpecConstants spec;
+        if (specialised) spec = {{0, std::get<0>(key)}, {1, std::get<1>(key)}, {2, std::get<2>(key)}};
         const auto start = std::chrono::steady_clock::now();
-        slot = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 2, std::uint32_t(sizeof(GenerateParams)),
-                                                     hashOnly_ ? vk::ComputePipeline::SpecConstants{} : spec);
+        slot = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 2, std::uint32_t(sizeof(GenerateParams)), spec);
         pipelineBuildSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     return *slot;

@@ -13,8 +13,12 @@ namespace oas {
 
 class GpuGenerator {
 public:
-    /// hashOnly: build the same-shape kernel that only hashes (the benchmark's ceiling).
-    explicit GpuGenerator(vk::Context& context, bool hashOnly = false);
+    /// Which build of oas_generate.comp runs: specialised per pattern kind (the normal one), the
+    /// same kernel unspecialised (every construction, offset and field kind decided at run time:
+    /// what specialisation buys, for the benchmark), or the same-shape kernel that only hashes
+    /// (the benchmark's ceiling).
+    enum class Kernel { Specialised, Unspecialised, HashOnly };
+    explicit GpuGenerator(vk::Context& context, Kernel kernel = Kernel::Specialised);
     ~GpuGenerator();
 
     /// Fills out[] ([pixel][sample][dim], like generateCpu) from the GPU.
@@ -32,7 +36,7 @@ private:
     void dispatchAll(const Pattern& pattern, const SampleRequest& request, float* out);
     vk::ComputePipeline& pipelineFor(const Pattern& pattern);
     vk::Context& context_;
-    bool hashOnly_;
+    Kernel kernel_;
     /// One pipeline per (construction, offset, field kind) specialisation, made on first use.
     std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::unique_ptr<vk::ComputePipeline>> pipelines_;
     std::unique_ptr<vk::Buffer> buffer_;

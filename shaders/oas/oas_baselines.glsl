@@ -114,14 +114,20 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
         // 2-transitive family (see oas_levels_form_prime_field): the pair statistics, and so the
         // variance, of uniformly random digit permutations, for one multiply and one remainder.
         // At most OAS_INDEX_BITS digits (base 2, N = 2^24): a fixed loop, the unused steps masked.
+        // Divisions by the base go through one reciprocal made here (bases are below 2^8).
+        uint shiftBase = uint(findMSB(base - 1u)) + 1u;
+        uint recipBase = oas_fastdiv_recip(base, shiftBase);
+        uint strataLimit = oas_fastdiv(OAS_ONE_FIXED, recipBase, shiftBase);
         uint strata = 1u;
         uint m = 0u;
         OAS_UNROLL for (uint digitIndex = 0u; digitIndex < OAS_INDEX_BITS; ++digitIndex) {
-            if (strata < pat.N && strata <= OAS_ONE_FIXED / base) {
-                uint d = i % base;
-                i /= base;
+            if (strata < pat.N && strata <= strataLimit) {
+                uint next = oas_fastdiv(i, recipBase, shiftBase);
+                uint d = i - next * base;
+                i = next;
                 uint key = oas_hash2(dimSeed, digitIndex);
-                uint pd = ((1u + oas_mulhi(key, base - 1u)) * d + oas_mulhi(oas_pcg(key), base)) % base;
+                uint permuted = (1u + oas_mulhi(key, base - 1u)) * d + oas_mulhi(oas_pcg(key), base);  // < base^2
+                uint pd = permuted - oas_fastdiv(permuted, recipBase, shiftBase) * base;
                 m = m * base + pd;  // digit k lands at base^-(k+1): reversed order builds m
                 strata *= base;
             }

@@ -68,6 +68,18 @@ uint oas_fastdiv(uint x, uint recip, uint l)
     return (t + ((x - t) >> shift1)) >> shift2;
 }
 
+/// The oas_fastdiv reciprocal of a divisor d in [1, 2^16] whose shift l = ceil(log2 d) is given:
+/// floor(2^32 (2^l - d) / d) + 1 by long division in two 16-bit steps (2^l - d < d, so each
+/// partial dividend fits 32 bits). For divisors known only in the shader (Halton's bases): two
+/// integer divisions once, instead of one per use.
+uint oas_fastdiv_recip(uint d, uint l)
+{
+    uint n = (l == 32u ? 0u : (1u << l)) - d;
+    uint high = (n << 16u) / d;
+    uint low = (((n << 16u) - high * d) << 16u) / d;
+    return (high << 16u) + low + 1u;
+}
+
 /// A seeded pseudo-random permutation of [0, l), l in [1, 2^32), with its keys made once
 /// (oas_permutation) and applied to any number of inputs (oas_permutation_apply) in fixed work:
 /// no loops and no data-dependent trip counts, so SIMD lanes stay in lock step and no iteration
