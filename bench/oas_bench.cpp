@@ -36,6 +36,17 @@ struct Row {
     const char* offset;
 };
 
+/// One pass of the pattern (N samples) for `pixels` pixels in a row, `dims` dimensions each.
+oas::SampleRequest onePass(const oas::Pattern& pattern, std::uint32_t pixels, std::uint32_t dims)
+{
+    oas::SampleRequest r;
+    r.width = pixels;
+    r.height = 1;
+    r.spp = pattern.N;
+    r.dims = dims;
+    return r;
+}
+
 /// What specialising the kernel on the pattern kind buys: the same generation kernel built without
 /// OAS_STATIC_* (every construction, offset and field kind decided at run time), against the
 /// specialised one, alternated per repeat; and the pipeline build time of each. Correctness does
@@ -52,11 +63,7 @@ void printSpecialisationCost(oas::vk::Context& context, std::uint32_t pixels, st
                 "build unsp s");
     for (const Row& row : rows) {
         const oas::Pattern pattern = oas::makePattern({row.sampler, row.spp, dims, row.strength, row.offset});
-        oas::SampleRequest r;
-        r.width = pixels;
-        r.height = 1;
-        r.spp = pattern.N;
-        r.dims = dims;
+        const oas::SampleRequest r = onePass(pattern, pixels, dims);
         const double sampleDims = double(pixels) * r.spp * dims;
         double builds[2];
         oas::GpuGenerator* kernels[2] = {&specialised, &unspecialised};
@@ -142,11 +149,7 @@ int main(int argc, char** argv)
             req.dims = dims;
             req.offset = row.offset;
             const oas::Pattern pattern = oas::makePattern(req);
-            oas::SampleRequest r;
-            r.width = pixels;
-            r.height = 1;
-            r.spp = pattern.N;
-            r.dims = dims;
+            const oas::SampleRequest r = onePass(pattern, pixels, dims);
             const double sampleDims = double(pixels) * r.spp * dims;
             if (pass == 0) {
                 if (hashOnly) {

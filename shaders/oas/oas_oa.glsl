@@ -18,7 +18,7 @@ OasField oas_pattern_field(OasPattern pat)
 /// Bush's largest strength: q^t <= 2^24 with q >= t leaves t <= 8 (8^8 = 2^24).
 const uint OAS_MAX_BUSH_T = 8u;
 
-/// 1 * base^e for e < 32 (square-and-multiply over e's five bits; no overflow check: callers keep
+/// base^e for e < 32 (square-and-multiply over e's five bits; no overflow check: callers keep
 /// the result below 2^32).
 uint oas_uint_pow(uint base, uint e)
 {
