@@ -59,6 +59,9 @@ uint oas_halton_base(uint i)
     }
 }
 
+/// Digits a Halton base above 2 can need: base 3 stops at 3^15 > 2^24 / 3 (the exact limit).
+const uint OAS_HALTON_ODD_BASE_DIGITS = 15u;
+
 /// Dimensions of one Halton block: beyond it, a new block with freshly shuffled indices and digit
 /// permutations (padding), never a silent wrap onto the same bases with the same scrambling.
 const uint OAS_HALTON_BLOCK = 32u;
@@ -113,14 +116,17 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
         // the permutations are the affine maps d -> a d + b mod base (a != 0), the sharply
         // 2-transitive family (see oas_levels_form_prime_field): the pair statistics, and so the
         // variance, of uniformly random digit permutations, for one multiply and one remainder.
-        // At most OAS_INDEX_BITS digits (base 2, N = 2^24): a fixed loop, the unused steps masked.
+        // At most OAS_INDEX_BITS digits (base 2 at N = 2^24), in fixed loops with the unused steps
+        // masked: the first OAS_HALTON_ODD_BASE_DIGITS for every base (base 3 needs no more), the rest
+        // for base 2 only, whose digit permutations d -> a d + b mod 2 are d XOR b (a = 1), which
+        // saves their multiplies and divisions (lavapipe pays for masked steps in full).
         // Divisions by the base go through one reciprocal made here (bases are below 2^8).
         uint shiftBase = uint(findMSB(base - 1u)) + 1u;
         uint recipBase = oas_fastdiv_recip(base, shiftBase);
         uint strataLimit = oas_fastdiv(OAS_ONE_FIXED, recipBase, shiftBase);
         uint strata = 1u;
         uint m = 0u;
-        OAS_UNROLL for (uint digitIndex = 0u; digitIndex < OAS_INDEX_BITS; ++digitIndex) {
+        OAS_UNROLL for (uint digitIndex = 0u; digitIndex < OAS_HALTON_ODD_BASE_DIGITS; ++digitIndex) {
             if (strata < pat.N && strata <= strataLimit) {
                 uint next = oas_fastdiv(i, recipBase, shiftBase);
                 uint d = i - next * base;
@@ -130,6 +136,14 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
                 uint pd = permuted - oas_fastdiv(permuted, recipBase, shiftBase) * base;
                 m = m * base + pd;  // digit k lands at base^-(k+1): reversed order builds m
                 strata *= base;
+            }
+        }
+        OAS_UNROLL for (uint digitIndex = OAS_HALTON_ODD_BASE_DIGITS; digitIndex < OAS_INDEX_BITS; ++digitIndex) {
+            if (base == 2u && strata < pat.N) {  // strata <= 2^23 here, so within the limit
+                uint pd = (i & 1u) ^ (oas_pcg(oas_hash2(dimSeed, digitIndex)) >> 31u);
+                i >>= 1u;
+                m = m * 2u + pd;
+                strata *= 2u;
             }
         }
         return oas_stratum_point(m, strata, oas_hash2(dimSeed ^ OAS_TAG_JITTER, index));
