@@ -88,8 +88,8 @@
 //     Correctness does not depend on it.
 //   - Fixed work. Each loop's trip count is the largest case the numeric contract allows: 12 bits
 //     of a GF(2^k) element, 5 digits of an odd extension field's element, t <= 8 Bush digits, 12
-//     exponent bits of an inverse, 24 bits or digits of a sample index (Sobol, (0,2), Halton), 5
-//     exponent bits of CMJND's digit place. Steps past the pattern's own k, t or digit count are
+//     exponent bits of an inverse, 5 exponent bits of CMJND's digit place, 24 bits of a (0,2)
+//     index, 24 Halton digits (15 for any base, 9 more for base 2), 32 bits of a Sobol index. Steps past the pattern's own k, t or digit count are
 //     masked. A value therefore costs the same for every pattern of a kind, and lanes stay in
 //     lock step.
 //   - Fetch the dimensions you need at one call site (a loop over them), not at every use: GPU
