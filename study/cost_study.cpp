@@ -80,7 +80,7 @@ std::string runCostStudy(const CostOptions& o, const std::vector<SamplerSpec>& s
        << " runs; GPU results stay in the device buffer. GPU ÷ hash-only compares with a kernel of the same shape "
           "that only hashes, measured in the same run (the ratio is the stable figure on a shared machine). "
           "Data: [`cost.csv`](study/cost.csv).\n"
-       << "- For scale (DESIGN §4, Mitsuba 3 LLVM on the same machine kind): `orthogonal` 295, `multijitter` 1000, "
+       << "- For scale (Mitsuba 3 LLVM, measured by this project on the same machine kind at 121 spp × 16384 px × 8 dims; bench/peer/mitsuba_peer.sh reruns it): `orthogonal` 295, `multijitter` 1000, "
           "`independent` 2900 M sample-dims/s.\n\n"
        << "| sampler | pattern | CPU 1 thread M/s | CPU " << threads << " threads M/s | GPU M/s | GPU ÷ hash-only |\n"
        << "|---|---|---|---|---|---|\n"

@@ -1,7 +1,7 @@
 #pragma once
 // The cost part of the study: sample-dimensions per second of every study sampler, on the CPU
 // (the shared GLSL compiled as C++, 1 thread and all threads) and on the Vulkan device, against
-// a hash-only kernel of the same shape measured in the same run (the ceiling; DESIGN §4 lists the
+// a hash-only kernel of the same shape measured in the same run (the ceiling; bench/peer measures the
 // Mitsuba 3 figures on the same machine kind).
 #include <cstdint>
 #include <string>

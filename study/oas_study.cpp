@@ -137,7 +137,7 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
          "Every relMSE is a mean over independent renders "
          "with n and the standard error next to it (marked \"cap\" where the s.e. is still above 10% of the "
          "mean); verdicts are ties unless two numbers differ by more than twice their combined s.e. The scenes "
-         "are ours (DESIGN §5), "
+         "are ours (scenes/README.md), "
          "modelled on the paper's CornellBox 7D, BlueSpheres 9D and Barcelona 43D, so compare ratios with the "
          "paper's, not absolute errors.\n\n";
     if (scenes.find("- Mode: full mode for every scene") == std::string::npos && !scenes.empty())
@@ -535,7 +535,7 @@ int main(int argc, char** argv)
           << trials << " trials; the ratio's ± is its first-order s.e. from the two MSEs' standard errors "
              "(`mse_stderr` in `analytic.csv`; the MSE plots show ± 1 s.e.).\n\n";
         o << "## Method\n\n"
-          << "- Integrands (DESIGN §4, after Subr et al. 2016): kernels g(r) with r_end = 3/π, r_start = r_end − 0.2, "
+          << "- Integrands (after Subr et al. 2016, as used by Jarosz et al. 2019): kernels g(r) with r_end = 3/π, r_start = r_end − 0.2, "
              "σ = 1/3: Gaussian exp(−r²/2σ²), linear step 1 − linearstep(r_start, r_end, r) (continuous, kinks at "
              "r_start and r_end), binary step [r < r_end] (discontinuous); combined as 1-additive Σ_i g(x_i), "
              "2-additive Σ_{i<j} g(‖(x_i,x_j)‖), 2-multiplicative Π_{i<j} g(‖(x_i,x_j)‖) and radial g(‖x‖).\n"

@@ -1336,7 +1336,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
                          "× CMJ2D-pad@128 (goal < 1: " + verdictWord(v2) + ")";
         }
     }
-    // Side by side with the paper (DESIGN §4: relative MSE, PBRT-v3, per-pixel samplers). Ratios,
+    // Side by side with the paper (Jarosz et al. 2019: relative MSE, PBRT-v3, per-pixel samplers). Ratios,
     // not absolute errors: the scenes are ours, modelled on the paper's.
     struct PaperValue {
         const char* scene;
@@ -1359,7 +1359,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
         return std::numeric_limits<double>::quiet_NaN();
     };
     md << "\n#### Side by side with the paper\n\n"
-       << "The paper's relative MSE (DESIGN §4; CornellBox 7D and BlueSpheres 9D at 121/128 spp, Barcelona 43D "
+       << "The paper's relative MSE (Jarosz et al. 2019, as tabulated in a co-author's thesis; CornellBox 7D and BlueSpheres 9D at 121/128 spp, Barcelona 43D "
           "at 3969/4096 spp, where its \"OA\" row is shown against our BoseCMJ) as ratios to its Random and its "
           "CMJ2D-pad, next to ours (± s.e.) at about 128 spp (our Random at the same count as the sampler; our "
           "interior_deep stands in for Barcelona at 32× fewer samples). The paper gives no error bars.\n\n"

@@ -3,7 +3,7 @@
 // a high-spp reference, versus samples per pixel and versus wall-clock time on the Vulkan device
 // (lavapipe in CI), for every sampler of the study; equal-time and time-to-target tables; false
 // colour error images at equal time; and each sampler's extra share of a frame's time.
-// Jarosz et al. 2019 report relative MSE for the same kinds of scenes at 121/128 spp (DESIGN §4).
+// Jarosz et al. 2019 report relative MSE for the same kinds of scenes at 121/128 spp.
 #include <cstdint>
 #include <string>
 #include <vector>
