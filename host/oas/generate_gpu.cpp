@@ -64,16 +64,18 @@ vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
     const auto key = specialised ? oas::specializationKey(pattern) : std::make_tuple(0u, 0u, 0u);
     auto& slot = pipelines_[key];
     if (!slot) {
-        const std::uint32_t* code = kernel_ == Kernel::HashOnly        ? oas_generate_hash_only_spv
-                                    : kernel_ == Kernel::Unspecialised ? oas_generate_unspecialised_spv
-                                                                       : oas_generate_spv;
-        const std::size_t bytes = kernel_ == Kernel::HashOnly        ? sizeof(oas_generate_hash_only_spv)
-                                  : kernel_ == Kernel::Unspecialised ? sizeof(oas_generate_unspecialised_spv)
-                                                                     : sizeof(oas_generate_spv);
+        struct Spirv {
+            const std::uint32_t* code;
+            std::size_t bytes;
+        };
+        const Spirv spirv = kernel_ == Kernel::HashOnly ? Spirv{oas_generate_hash_only_spv, sizeof(oas_generate_hash_only_spv)}
+                            : kernel_ == Kernel::Unspecialised
+                                ? Spirv{oas_generate_unspecialised_spv, sizeof(oas_generate_unspecialised_spv)}
+                                : Spirv{oas_generate_spv, sizeof(oas_generate_spv)};
         vk::ComputePipeline::SpecConstants spec;
         if (specialised) spec = {{0, std::get<0>(key)}, {1, std::get<1>(key)}, {2, std::get<2>(key)}};
         const auto start = std::chrono::steady_clock::now();
-        slot = std::make_unique<vk::ComputePipeline>(context_, code, bytes, 2, std::uint32_t(sizeof(GenerateParams)), spec);
+        slot = std::make_unique<vk::ComputePipeline>(context_, spirv.code, spirv.bytes, 2, std::uint32_t(sizeof(GenerateParams)), spec);
         pipelineBuildSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     return *slot;

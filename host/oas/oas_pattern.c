@@ -183,7 +183,9 @@ const char* oas_construction_name(uint32_t construction)
 /* Whether the shaders can multiply in GF(p^k): an odd extension field's products run in one
  * 32-bit word of k digit slots, each wide enough for 2k(p-1)^2 + 2(p-1) (oas_gf_slot_bits in
  * shaders/oas/oas_gf.glsl). Of the fields with q <= 4096 this leaves out GF(3^6), GF(3^7), GF(5^5)
- * and GF(7^4), which only sample counts of 531441 and more would use. */
+ * and GF(7^4), which only sample counts of 531441 and more would use. The formula is the GLSL's,
+ * restated in C99; GfHost.OddExtensionFieldsOutsideOneWordAreRefused checks the two agree for
+ * every q <= 4096. */
 static int oasp_field_supported(uint32_t q, char* why, size_t whyLen)
 {
     uint32_t p = 0, k = 0, bound, bits = 0;

@@ -148,23 +148,6 @@ uint oas_gf_add(OasField f, uint a, uint b)
     return result;
 }
 
-/// -a in GF(q): each digit d becomes (p - d) mod p.
-uint oas_gf_neg(OasField f, uint a)
-{
-    if (OAS_FIELD_IS_PRIME(f)) return a == 0u ? 0u : f.p - a;
-    if (OAS_FIELD_IS_BINARY(f)) return a;
-    uint result = 0u;
-    uint power = 1u;
-    OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
-        uint next = oas_gf_divp(f, a);
-        uint d = a - next * f.p;
-        result += (d == 0u ? 0u : f.p - d) * power;
-        power *= f.p;
-        a = next;
-    }
-    return result;
-}
-
 /// a * b + y + extra in GF(q): one product and two sums for the price of the product.
 uint oas_gf_mul_add2(OasField f, uint a, uint b, uint y, uint extra)
 {
@@ -181,6 +164,15 @@ uint oas_gf_mul_add(OasField f, uint a, uint b, uint y) { return oas_gf_mul_add2
 
 /// a * b in GF(q). Prime fields take one multiply and one remainder (a, b < p < 2^16).
 uint oas_gf_mul(OasField f, uint a, uint b) { return oas_gf_mul_add2(f, a, b, 0u, 0u); }
+
+/// -a in GF(q). Odd extensions multiply by the constant p - 1, the element -1 (the samplers
+/// never negate, so it shares the product's code rather than a digit loop of its own).
+uint oas_gf_neg(OasField f, uint a)
+{
+    if (OAS_FIELD_IS_PRIME(f)) return a == 0u ? 0u : f.p - a;
+    if (OAS_FIELD_IS_BINARY(f)) return a;
+    return oas_gf_mul(f, f.p - 1u, a);
+}
 
 /// a * x mod f(x) (x is the element p; for k = 1 it is 0, and so is the product).
 uint oas_gf_mulx(OasField f, uint a) { return oas_gf_mul(f, a, OAS_FIELD_IS_PRIME(f) ? 0u : f.p); }
