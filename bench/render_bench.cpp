@@ -71,7 +71,7 @@ Result measureCpu(const oas::scene::Scene& scene, const std::string& sampler, st
     batch.width = scene.width;
     batch.height = scene.height;
     batch.count = spp;
-    std::vector<float> accumulation(std::size_t(scene.width) * scene.height * 4, 0.0f);
+    oas::render::Accumulation accumulation(scene.width, scene.height);
     const auto start = Clock::now();
     oas::render::traceCpu(data, plan, pattern, batch, accumulation, 0);
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();

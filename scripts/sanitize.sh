@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds oas with AddressSanitizer + UndefinedBehaviorSanitizer (g++) into build-asan/ and runs
 # every ctest case that does not need the Vulkan device. Those (the Vk*/Gpu* suites, the CLI's
-# --device gpu runs and the Consumer.* example projects) execute lavapipe's LLVM-JIT-compiled
+# --device gpu runs, the Dask driver's renders and the Consumer.* example projects) execute lavapipe's LLVM-JIT-compiled
 # shaders, which take ~13 min per test under ASan and whose code is not ours; they run unsanitized
 # in scripts/test.sh's main suite (the Consumer.* tests also build their own, unsanitized oas).
 # Part of scripts/test.sh (so of .ci/run); run alone after scripts/setup.sh.
@@ -13,7 +13,7 @@ flags="-O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitiz
   -DOAS_BUILD_BENCHMARKS=OFF -DOAS_BUILD_STUDY_APP=OFF
 cmake --build build-asan -j "$(nproc)"
 # Tests that dispatch on the device (kept in one place: keep it in step with tests/).
-gpu_tests='^(VkSmoke|GpuCpu|GoldenGpu|RenderGpu|StudyGpu|ViewGpu|LoopFree|Consumer)\.|^CliTest\.Gpu'
+gpu_tests='^(VkSmoke|GpuCpu|GoldenGpu|RenderGpu|StudyGpu|ViewGpu|LoopFree|Consumer|MergeGpu|Cluster)\.|^CliTest\.Gpu'
 # Too slow under ASan for what they add there; both run unsanitized in the main suite. The largest
 # Bose pattern (2^24 points, ~70 s) runs the same code as the other HardCases tests at a larger
 # count; PermutationQuality (~95 s) is a statistical test of integration error whose code paths the

@@ -1,6 +1,7 @@
 #version 450
 // The GPU path tracer: one invocation per pixel of a tile, a batch of samples per dispatch,
-// radiance sums accumulated in a buffer (progressive rendering: the host adds batches until spp).
+// exact radiance sums accumulated in a buffer (progressive rendering: the host adds batches until
+// spp; any split of the samples gives the same sums, pt/pt_accumulate.glsl).
 // The scene's dimension plan and effects arrive as specialization constants, so effects a scene
 // does not call for compile away and consume no sample dimensions.
 #extension GL_GOOGLE_include_directive : require
@@ -56,9 +57,8 @@ layout(std430, binding = 1) readonly buffer Materials { PtMaterial materials[]; 
 layout(std430, binding = 2) readonly buffer Lights { PtLight lights[]; };
 layout(std430, binding = 3) readonly buffer Nodes { PtNode nodes[]; };
 layout(std430, binding = 4) readonly buffer Globals { PtGlobals globals; };
-layout(std430, binding = 5) buffer Accumulation { vec4 accumulation[]; };
-// The count of non-finite samples, 64 bits as two words: it cannot wrap in any render we can run.
-layout(std430, binding = 7) buffer Counters { uint nonFiniteLow; uint nonFiniteHigh; } counters;
+// Exact per-pixel sums, PT_SUM_WORDS words per pixel (pt/pt_accumulate.glsl).
+layout(std430, binding = 5) buffer Accumulation { uint accumulation[]; };
 
 PtShape pt_shape(uint i) { return shapes[i]; }
 PtMaterial pt_material(uint i) { return materials[i]; }
@@ -68,6 +68,7 @@ PtGlobals pt_globals() { return globals; }
 OasPattern pt_pattern() { return params.pattern; }
 
 #include "pt/pt_trace.glsl"
+#include "pt/pt_accumulate.glsl"
 
 void main()
 {
@@ -76,22 +77,28 @@ void main()
     uint py = params.tileY + gl_GlobalInvocationID.y;
     PtSampleState st;
     st.seed = oas_pixel_seed(px, py, params.seed);
-    vec3 sum = vec3(0.0f);
-    uint nonFinite = 0u;
+    PtSum sum = pt_sum_zero();
+    uint rejected = 0u;
     for (uint i = 0u; i < params.sampleCount; ++i) {
         st.index = params.firstSample + i;
         vec3 l = pt_radiance(st, px, py);
-        if (pt_finite(l))
-            sum += l;
+        if (pt_summable(l))
+            sum = pt_sum_add(sum, pt_sum_of(l));
         else
-            ++nonFinite;
+            ++rejected;
     }
-    uint pixel = py * uint(globals.image.x) + px;
-    accumulation[pixel] += vec4(sum, float(params.sampleCount));
-    if (nonFinite > 0u) {
-        // The add that wraps the low word carries into the high one; each wrap is seen by exactly
-        // one add (the one whose old value was within nonFinite of 2^32), so the sum stays exact.
-        uint before = atomicAdd(counters.nonFiniteLow, nonFinite);
-        if (before + nonFinite < before) atomicAdd(counters.nonFiniteHigh, 1u);
+    // One invocation per pixel per dispatch: a plain read-modify-write, no atomics.
+    uint base = (py * uint(globals.image.x) + px) * PT_SUM_WORDS;
+    PtSum before;
+    before.lo = uvec3(accumulation[base], accumulation[base + 3u], accumulation[base + 6u]);
+    before.mid = uvec3(accumulation[base + 1u], accumulation[base + 4u], accumulation[base + 7u]);
+    before.hi = uvec3(accumulation[base + 2u], accumulation[base + 5u], accumulation[base + 8u]);
+    PtSum after = pt_sum_add(before, sum);
+    [[unroll]] for (uint c = 0u; c < 3u; ++c) {
+        accumulation[base + 3u * c] = after.lo[c];
+        accumulation[base + 3u * c + 1u] = after.mid[c];
+        accumulation[base + 3u * c + 2u] = after.hi[c];
     }
+    accumulation[base + PT_SUM_COUNT_WORD] += params.sampleCount;
+    accumulation[base + PT_SUM_REJECTED_WORD] += rejected;
 }

@@ -122,7 +122,7 @@ Render render(oas::render::GpuTracer& tracer, const oas::render::DimensionPlan& 
                               [&](const oas::render::SampleBatch& b) { tracer.trace(b); });
     Render r;
     r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    r.image = oas::image::imageFromAccumulation(tracer.accumulation(), width, height);
+    r.image = tracer.accumulation().image();
     return r;
 }
 
@@ -243,10 +243,10 @@ std::vector<std::uint32_t> parsePixels(const std::string& text, std::uint32_t wi
 
 double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render::DimensionPlan& plan,
                           const oas::Pattern& pattern, const std::vector<std::uint32_t>& pixels, std::uint32_t spp,
-                          std::uint32_t seed, const oas::image::Image& reference, std::vector<float>& scratch, double eps)
+                          std::uint32_t seed, const oas::image::Image& reference, oas::render::Accumulation& scratch, double eps)
 {
     oas::image::checkLayout(reference, "rarePixelsShareCpu: reference");
-    scratch.assign(reference.rgba.size(), 0.0f);
+    scratch = oas::render::Accumulation(reference.width, reference.height);
     double share = 0;
     for (auto pix : pixels) {
         if (pix >= reference.pixelCount()) throw std::invalid_argument("rarePixelsShareCpu: pixel outside the reference");
@@ -258,11 +258,10 @@ double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render:
         b.count = spp;
         b.seed = seed;
         oas::render::traceCpu(data, plan, pattern, b, scratch, 1);
-        // As imageFromAccumulation and pixelRelErrors compute it from a GPU render.
-        const float* px = scratch.data() + 4 * std::size_t(pix);
+        // As Accumulation::image and pixelRelErrors compute it from a GPU render.
         double e = 0;
         for (int c = 0; c < 3; ++c) {
-            const double v = double(px[c] / std::max(px[3], 1.0f)), r = reference.rgba[4 * pix + c];
+            const double v = oas::render::meanValue(scratch.pixel(pix), c), r = reference.rgba[4 * pix + c];
             e += (v - r) * (v - r) / (r * r + eps);
         }
         share += e / 3;
@@ -965,7 +964,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                     std::vector<std::thread> pool;
                     for (unsigned w = 0; w < std::max(1u, std::thread::hardware_concurrency()); ++w)
                         pool.emplace_back([&] {
-                            std::vector<float> scratch;
+                            oas::render::Accumulation scratch;
                             for (std::uint32_t j; (j = next++) < kRareBatch;) {
                                 // Render seeds beyond any image render's trial (< 2^16), one per render.
                                 const std::uint32_t seed =

@@ -13,6 +13,7 @@
 #include "vk/context.hpp"
 #include "image/metrics.hpp"
 #include "oas/pattern.hpp"
+#include "render/accumulation.hpp"
 #include "render/plan.hpp"
 #include "render/scene_data.hpp"
 
@@ -138,7 +139,7 @@ std::vector<std::uint32_t> rarePixelsOf(const oas::image::Image& a, const oas::i
 /// number a full GPU render with that seed gives, up to float rounding. `scratch` is reused.
 double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render::DimensionPlan& plan,
                           const oas::Pattern& pattern, const std::vector<std::uint32_t>& pixels, std::uint32_t spp,
-                          std::uint32_t seed, const oas::image::Image& reference, std::vector<float>& scratch,
+                          std::uint32_t seed, const oas::image::Image& reference, oas::render::Accumulation& scratch,
                           double relEpsilon = 1e-2);
 /// Whether one more batch of rare-pixel renders can still help a point reach relSeTarget: not once
 /// the stratified sum rest + rare is there, and not while the image renders' part alone has an s.e.

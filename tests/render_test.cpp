@@ -21,6 +21,7 @@
 
 #include "gpu_test_support.hpp"
 #include "render/plan.hpp"
+#include "render/render_file.hpp"
 #include "render/scene_data.hpp"
 #include "render/scene_pattern.hpp"
 #include "render/tracer.hpp"
@@ -44,7 +45,7 @@ Pattern patternFor(const scene::Scene& s, const render::DimensionPlan& plan, std
 /// All of the scene's pixels, samples [0, count), and an accumulation buffer for them.
 struct WholeImage {
     render::SampleBatch batch;
-    std::vector<float> accumulation;
+    render::Accumulation accumulation;
 };
 WholeImage wholeImage(const scene::Scene& s, std::uint32_t count, std::uint32_t seed = 0)
 {
@@ -53,7 +54,7 @@ WholeImage wholeImage(const scene::Scene& s, std::uint32_t count, std::uint32_t 
     w.batch.height = s.height;
     w.batch.count = count;
     w.batch.seed = seed;
-    w.accumulation.assign(std::size_t(s.width) * s.height * 4, 0.0f);
+    w.accumulation = render::Accumulation(s.width, s.height);
     return w;
 }
 
@@ -179,7 +180,8 @@ TEST(Render, ShippedScenesHaveNoNonFiniteSamples)
 
 TEST(Render, TilesAndSampleBatchesEqualOneWholePass)
 {
-    // oas-render dispatches tiles x sample batches; any split must accumulate the same sums.
+    // oas-render dispatches tiles x sample batches; any split must accumulate the same sums, bit
+    // for bit (they are integers).
     auto s = loadTestScene("cornell7d.json");
     s.width = 20;
     s.height = 14;
@@ -190,7 +192,7 @@ TEST(Render, TilesAndSampleBatchesEqualOneWholePass)
     whole.width = s.width;
     whole.height = s.height;
     whole.count = 10;
-    std::vector<float> a(std::size_t(s.width) * s.height * 4, 0.0f), b = a;
+    render::Accumulation a(s.width, s.height), b = a;
     render::traceCpu(data, plan, pattern, whole, a, 1);
     for (std::uint32_t first = 0; first < 10; first += 5)
         for (std::uint32_t ty = 0; ty < s.height; ty += 8)
@@ -204,10 +206,8 @@ TEST(Render, TilesAndSampleBatchesEqualOneWholePass)
                 tile.count = 5;
                 render::traceCpu(data, plan, pattern, tile, b, 2);
             }
-    for (std::size_t i = 0; i < a.size(); i += 4) {
-        ASSERT_EQ(a[i + 3], b[i + 3]);
-        for (int c = 0; c < 3; ++c) ASSERT_NEAR(a[i + c], b[i + c], 1e-5f * (1 + std::abs(a[i + c])));
-    }
+    for (std::size_t i = 0; i < a.pixelCount(); ++i) ASSERT_EQ(a.samples(i), 10u);
+    EXPECT_EQ(a.words, b.words);
 }
 
 TEST(RenderCpu, AllThreadsGiveTheSameBitsAsOneThread)
@@ -231,13 +231,12 @@ TEST(RenderCpu, AllThreadsGiveTheSameBitsAsOneThread)
             batch.width = s.width;
             batch.height = s.height;
             batch.count = pattern.N + 3;  // into a second pass
-            std::vector<float> one(std::size_t(s.width) * s.height * 4, 0.0f), many = one;
+            render::Accumulation one(s.width, s.height);
             render::traceCpu(data, plan, pattern, batch, one, 1);
             for (unsigned threads : {2u, 5u}) {
-                std::fill(many.begin(), many.end(), 0.0f);
+                render::Accumulation many(s.width, s.height);
                 render::traceCpu(data, plan, pattern, batch, many, threads);
-                EXPECT_EQ(0, std::memcmp(one.data(), many.data(), one.size() * sizeof(float)))
-                    << name << " " << sampler << " with " << threads << " threads";
+                EXPECT_EQ(one.words, many.words) << name << " " << sampler << " with " << threads << " threads";
             }
         }
     }
@@ -368,14 +367,14 @@ TEST_F(RenderGpu, AgreesWithTheCpuReference)
         batch.count = 11;
         gpu.trace(batch);
     }
-    EXPECT_EQ(gpu.nonFiniteSamples(), 0u);
+    EXPECT_EQ(gpu.rejectedSamples(), 0u);
     const auto g = gpu.accumulation();
     double sumAbs = 0, sum = 0;
     std::size_t far = 0;
-    for (std::size_t i = 0; i < cpu.size(); i += 4) {
-        ASSERT_EQ(g[i + 3], 121.0f);
+    for (std::size_t i = 0; i < cpu.pixelCount(); ++i) {
+        ASSERT_EQ(g.samples(i), 121u);
         for (int c = 0; c < 3; ++c) {
-            const double a = cpu[i + c] / 121.0, b = g[i + c] / 121.0;
+            const double a = render::meanValue(cpu.pixel(i), c), b = render::meanValue(g.pixel(i), c);
             sumAbs += std::abs(a - b);
             sum += std::abs(a);
             if (std::abs(a - b) > 0.02 * std::abs(a) + 1e-4) ++far;
@@ -383,43 +382,42 @@ TEST_F(RenderGpu, AgreesWithTheCpuReference)
     }
     ASSERT_GT(sum, 0.0) << "the reference image is black";
     EXPECT_LT(sumAbs / sum, 1e-3) << "mean relative difference";
-    EXPECT_LE(far, cpu.size() / 4 * 3 / 100) << "pixels differing by more than 2%";
+    EXPECT_LE(far, cpu.pixelCount() * 3 / 100) << "pixels differing by more than 2%";
 }
 
-TEST_F(RenderGpu, CountsNonFiniteSamples)
+TEST_F(RenderGpu, RejectsNonFiniteNegativeAndHugeSamples)
 {
-    // With the light's radiance NaN in the flattened scene (the loader refuses such a scene; this
-    // is the one way to make every light sample non-finite), both tracers count the samples and
-    // keep them out of the sums; clear() resets the count.
+    // With the light's radiance NaN, negative or 1e30 (>= 2^64) in the flattened scene (the loader
+    // refuses such scenes; this is the one way to make light samples unsummable), both tracers
+    // count the samples as taken and as rejected, and keep them out of the sums: every sum stays
+    // what the other samples give. clear() resets the counts.
     auto s = loadTestScene("cornell7d.json");
     s.width = 8;
     s.height = 8;
     const auto plan = render::planDimensions(s);
-    auto hot = render::flattenScene(s);
-    for (auto& m : hot.materials)
-        if (m.emission.x > 0) m.emission.x = std::numeric_limits<float>::quiet_NaN();
     const auto pattern = patternFor(s, plan, 121);
-    auto [batch, cpuHot] = wholeImage(s, 11);
-    EXPECT_GT(render::traceCpu(hot, plan, pattern, batch, cpuHot), 0u);
-    for (float v : cpuHot) ASSERT_TRUE(std::isfinite(v));
-    render::GpuTracer gpuHot(context(), hot, plan, pattern);
-    gpuHot.trace(batch);
-    EXPECT_GT(gpuHot.nonFiniteSamples(), 0u);
-    for (float v : gpuHot.accumulation()) ASSERT_TRUE(std::isfinite(v));
-    const std::uint64_t perTrace = gpuHot.nonFiniteSamples();
-    gpuHot.clear();
-    EXPECT_EQ(gpuHot.nonFiniteSamples(), 0u);
-
-    // The GPU count is 64 bits: started a few short of 2^32, the same trace carries into the high
-    // word instead of wrapping (a 32-bit counter would read perTrace - 5 here).
-    ASSERT_GT(perTrace, 5u);
-    const std::uint64_t start = (std::uint64_t(1) << 32) - 5;
-    gpuHot.setNonFiniteSamples(start);
-    gpuHot.trace(batch);
-    EXPECT_EQ(gpuHot.nonFiniteSamples(), start + perTrace);
-    gpuHot.setNonFiniteSamples((std::uint64_t(7) << 32) + 1);
-    gpuHot.trace(batch);
-    EXPECT_EQ(gpuHot.nonFiniteSamples(), (std::uint64_t(7) << 32) + 1 + perTrace);
+    for (const float bad : {std::numeric_limits<float>::quiet_NaN(), -1.0f, 1e30f}) {
+        auto hot = render::flattenScene(s);
+        for (auto& m : hot.materials)
+            if (m.emission.x > 0) m.emission.x = bad;
+        auto [batch, cpuHot] = wholeImage(s, 11);
+        const std::uint64_t cpuRejected = render::traceCpu(hot, plan, pattern, batch, cpuHot);
+        EXPECT_GT(cpuRejected, 0u) << bad;
+        EXPECT_EQ(cpuHot.rejectedSamples(), cpuRejected);
+        for (std::size_t i = 0; i < cpuHot.pixelCount(); ++i) {
+            ASSERT_EQ(cpuHot.samples(i), 11u);
+            ASSERT_LE(cpuHot.rejected(i), 11u);
+        }
+        for (float v : cpuHot.image().rgba) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v < 1e3f) << bad;
+        render::GpuTracer gpuHot(context(), hot, plan, pattern);
+        gpuHot.trace(batch);
+        EXPECT_GT(gpuHot.rejectedSamples(), 0u) << bad;
+        const auto g = gpuHot.accumulation();
+        for (std::size_t i = 0; i < g.pixelCount(); ++i) ASSERT_EQ(g.samples(i), 11u);
+        for (float v : g.image().rgba) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v < 1e3f) << bad;
+        gpuHot.clear();
+        EXPECT_EQ(gpuHot.rejectedSamples(), 0u);
+    }
 }
 
 /// Runs oas-render with arguments; returns the exit status.
@@ -485,13 +483,17 @@ TEST(RenderCli, StopSignalsWriteTheImageAccumulatedSoFar)
         ASSERT_EQ(::waitpid(pid, &status, 0), pid);
         ASSERT_TRUE(WIFEXITED(status)) << "signal " << sig << " killed the render";
         EXPECT_EQ(WEXITSTATUS(status), 128 + sig);
-        std::map<std::string, std::string> attributes;
-        const image::Image img = image::readExr(out, &attributes);
+        // A valid shard of the finished passes: oas-merge reads it, and it says which samples it
+        // holds, so that the rest can be rendered with --samples and merged.
+        const render::RenderFile shard = render::readRenderFile(out);
+        const std::map<std::string, std::string>& attributes = shard.attributes;
+        const image::Image img = shard.sums.image();
         const std::uint32_t spp = std::uint32_t(std::stoul(attributes.at("oas.spp")));
         EXPECT_GT(spp, 0u);
         EXPECT_LT(spp, 1000000u);
+        EXPECT_EQ(attributes.at("oas.samples"), "0:" + std::to_string(spp));
         EXPECT_EQ(attributes.at("oas.sppRequested"), "1000000");
-        EXPECT_EQ(attributes.at("oas.nonFiniteSamples"), "0");
+        EXPECT_EQ(attributes.at("oas.rejectedSamples"), "0");
         // The furnace's exact answer holds for whatever number of samples was reached.
         EXPECT_NEAR(img.rgba[(std::size_t(16) * img.width + 16) * 4], 0.5f, 1e-5f);
         // Nothing but the two outputs is left.
@@ -606,7 +608,8 @@ TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
     const std::string text((std::istreambuf_iterator<char>(errIn)), std::istreambuf_iterator<char>());
     EXPECT_NE(text.find("oas-render: error: cannot allocate"), std::string::npos) << text;
     EXPECT_NE(text.find("16384x16384"), std::string::npos) << text;
-    EXPECT_NE(text.find("4096 MiB"), std::string::npos) << text;
+    // The sums take 12 words of 4 bytes per pixel: 16384^2 * 48 B = 12288 MiB.
+    EXPECT_NE(text.find("12288 MiB"), std::string::npos) << text;
     EXPECT_FALSE(std::filesystem::exists(dir / "huge.exr"));
     std::filesystem::remove_all(dir);
 #endif
@@ -671,20 +674,32 @@ TEST(BatchCursor, PassesCoverEveryPixelOnceWithTheSameSamplesForAnyTile)
     }
 }
 
-// oas-render and oas-view write the same header for the same render (plus their own extras).
-TEST(RenderAttributes, EveryWriterRecordsTheSceneSamplerPlanAndCounts)
+// oas-render and oas-view write the same header for the same render (plus their own extras): the
+// frame fields a merge compares, and where the render came from.
+TEST(RenderAttributes, EveryWriterRecordsTheFrameFields)
 {
     auto s = loadTestScene("cornell7d.json");
     const auto plan = render::planDimensions(s);
+    const auto data = render::flattenScene(s);
     const auto pattern = render::scenePattern(s, plan, false).pattern;
-    const auto a = render::renderAttributes(s, plan, pattern, 37);
-    EXPECT_EQ(a.at("oas.spp"), "37");
+    const auto a = render::renderAttributes(s, data, plan, pattern, 37);
+    for (const std::string& field : render::frameFields()) EXPECT_TRUE(a.count(field)) << field;
+    EXPECT_EQ(a.at("oas.seed"), "37");
+    EXPECT_EQ(a.at("oas.resolution"), std::to_string(s.width) + "x" + std::to_string(s.height));
     EXPECT_EQ(a.at("oas.sppRequested"), std::to_string(s.sampler.spp));
     EXPECT_EQ(a.at("oas.sampler"), oas::describe(pattern));
     EXPECT_EQ(a.at("oas.scene"), s.path.string());
+    EXPECT_EQ(a.at("oas.pattern").size(), 16u * 9 - 1) << "16 words of 8 hex digits";
     // The plan's first line only (EXR string attributes stay one line).
     EXPECT_FALSE(a.at("oas.dimensionPlan").empty());
     EXPECT_EQ(a.at("oas.dimensionPlan").find('\n'), std::string::npos);
     EXPECT_EQ(plan.explain().rfind(a.at("oas.dimensionPlan"), 0), 0u);
-    EXPECT_EQ(a.size(), 5u);
+    // The scene hash follows what is rendered, not what the file is called.
+    auto renamed = s;
+    renamed.name = "another name";
+    EXPECT_EQ(render::renderAttributes(renamed, render::flattenScene(renamed), plan, pattern, 37).at("oas.sceneHash"),
+              a.at("oas.sceneHash"));
+    auto recoloured = data;
+    recoloured.materials[0].albedo.x *= 0.5f;
+    EXPECT_NE(render::renderAttributes(s, recoloured, plan, pattern, 37).at("oas.sceneHash"), a.at("oas.sceneHash"));
 }

@@ -839,7 +839,7 @@ TEST_F(StudyGpu, TheRarePixelsShareOnTheCpuIsTheGpuRendersShare)
         gpu.clear();
         oas::render::forEachBatch(16, 16, 121, oas::render::samplesPerBatch(plan), seed,
                                   [&](const oas::render::SampleBatch& b) { gpu.trace(b); });
-        return oas::image::imageFromAccumulation(gpu.accumulation(), 16, 16);
+        return gpu.accumulation().image();
     };
     // Against another render as the "reference", so that the error is all noise and a render
     // with another seed has a clearly different one.
@@ -850,7 +850,7 @@ TEST_F(StudyGpu, TheRarePixelsShareOnTheCpuIsTheGpuRendersShare)
     const std::vector<std::uint32_t> pixels = {0, 17, 8 * 16 + 8, 15 * 16 + 3, 255};
     double gpuShare = 0;
     for (auto p : pixels) gpuShare += errors[p] / 256.0;
-    std::vector<float> scratch;
+    oas::render::Accumulation scratch;
     const double cpuShare = rarePixelsShareCpu(data, plan, pattern, pixels, 121, seed, reference, scratch);
     ASSERT_GT(gpuShare, 0.0);
     EXPECT_NEAR(cpuShare, gpuShare, 1e-3 * gpuShare);  // float evaluation order only

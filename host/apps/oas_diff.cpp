@@ -2,6 +2,10 @@
 // R, G, B (alpha ignored) for the whole image and optionally a crop, and optionally writing a
 // false-colour PNG of the per-pixel relative squared error.
 //
+// --exact instead asks whether the two files hold the same pixels bit for bit (every channel,
+// the exact sums of render files included): exit 0 when they do, 1 when they differ (the first
+// difference is named); headers (times, devices) are not compared.
+//
 // Exit status: 0 on success; 2 for bad arguments, unreadable images, or images that cannot be
 // compared (different sizes, crop outside the image, a NaN or infinite pixel, which would make
 // every metric NaN), with a message on stderr and nothing on stdout; 1 when the error PNG cannot
@@ -11,6 +15,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <optional>
 #include <stdexcept>
@@ -50,6 +55,30 @@ std::string number(double v)
     return fmt::format("{:.8e}", v);
 }
 
+/// Empty when a and b hold the same bits in every channel; else the first difference in words.
+std::string exactDifference(const oas::image::Image& a, const oas::image::UintChannels& aUints,
+                            const oas::image::Image& b, const oas::image::UintChannels& bUints)
+{
+    if (a.width != b.width || a.height != b.height)
+        return fmt::format("sizes {}x{} and {}x{}", a.width, a.height, b.width, b.height);
+    std::string aNames, bNames;
+    for (const auto& entry : aUints) aNames += " " + entry.first;
+    for (const auto& entry : bUints) bNames += " " + entry.first;
+    if (aNames != bNames) return "uint channels [" + aNames + " ] and [" + bNames + " ]";
+    for (std::size_t i = 0; i < a.rgba.size(); ++i)
+        if (std::memcmp(&a.rgba[i], &b.rgba[i], sizeof(float)) != 0)
+            return fmt::format("pixel {},{} channel {}: {} and {}", i / 4 % a.width, i / 4 / a.width, "RGBA"[i % 4],
+                               number(a.rgba[i]), number(b.rgba[i]));
+    for (const auto& [name, values] : aUints) {
+        const auto& other = bUints.at(name);
+        for (std::size_t i = 0; i < values.size(); ++i)
+            if (values[i] != other[i])
+                return fmt::format("pixel {},{} channel {}: {} and {}", i % a.width, i / a.width, name, values[i],
+                                   other[i]);
+    }
+    return "";
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -57,15 +86,19 @@ int main(int argc, char** argv)
     CLI::App app{"oas-diff: compare an OpenEXR image with a reference (MSE, relMSE, RMSE over RGB)"};
     app.footer("relMSE = mean over pixels and R,G,B of (I - R)^2 / (R^2 + eps).\n"
                "Exit status: 0 ok, 2 bad arguments or unreadable/incomparable images (also: NaN or infinite\n"
-               "pixels), 1 error PNG not written.");
+               "pixels), 1 error PNG not written.\n"
+               "--exact: 0 same pixels bit for bit in every channel, 1 they differ, 2 unreadable.");
     std::string imagePath, referencePath, cropText, errorPng;
     double epsilon = 1e-2;
+    bool exact = false;
     app.add_option("IMAGE", imagePath, "the image to measure (OpenEXR)")->required();
     app.add_option("REF", referencePath, "the reference image (OpenEXR), same size")->required();
     app.add_option("--crop", cropText, "also report the crop x,y,w,h (pixels, origin top left)");
     app.add_option("--error-png", errorPng, "write a false-colour PNG of the per-pixel relative squared error "
                                             "(log scale, 1e-5 .. 10)");
     app.add_option("--epsilon", epsilon, "eps of relMSE (default 0.01)");
+    app.add_flag("--exact", exact,
+                 "only say whether the pixels are bit-identical in every channel (float and uint; headers ignored)");
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
@@ -73,6 +106,25 @@ int main(int argc, char** argv)
     } catch (const CLI::ParseError& e) {
         std::cerr << "oas-diff: error: " << e.what() << "\n" << "run with --help for the options\n";
         return 2;
+    }
+
+    if (exact) {
+        try {
+            oas::image::UintChannels imageUints, referenceUints;
+            const auto a = oas::image::readExr(imagePath, nullptr, &imageUints);
+            const auto b = oas::image::readExr(referencePath, nullptr, &referenceUints);
+            const std::string difference = exactDifference(a, imageUints, b, referenceUints);
+            if (!difference.empty()) {
+                std::cout << "differ: " << difference << "\n";
+                return 1;
+            }
+            std::cout << "identical: " << a.width << "x" << a.height << ", RGBA and " << imageUints.size()
+                      << " uint channels bit for bit\n";
+            return 0;
+        } catch (const std::exception& e) {
+            std::cerr << "oas-diff: error: " << e.what() << "\n";
+            return 2;
+        }
     }
 
     oas::image::Image image, reference;

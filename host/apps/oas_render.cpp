@@ -1,9 +1,13 @@
 // oas-render: renders a scene (scenes/README.md) with the OA path tracer on the GPU (lavapipe
-// unless you chose a driver) or with the CPU reference tracer, progressively, and writes a float
-// OpenEXR (spp, sampler, time and dimension plan in its header) plus a tone-mapped sRGB PNG.
-// Ctrl-C, SIGTERM and SIGHUP stop after the current pass and write the image accumulated so far
-// (its real spp recorded); a second signal ends the process at once. Outputs are written to
-// temporary files and renamed; temporaries left by a killed run are removed by the next write.
+// unless you chose a driver) or with the CPU reference tracer, progressively, and writes a render
+// file (render/render_file.hpp: an OpenEXR with the mean image, the exact per-pixel sums, and the
+// samples, sampler, plan, seed and time in its header) plus a tone-mapped sRGB PNG.
+// --samples A:B renders only sample indices [A, B) of every pixel: a shard that oas-merge adds to
+// the other shards of the frame, bit for bit the render of their union.
+// Ctrl-C, SIGTERM and SIGHUP stop after the current pass and write the passes finished (a valid
+// shard: the rest can be rendered later with --samples and merged); a second signal ends the
+// process at once. Outputs are written to temporary files and renamed; temporaries left by a
+// killed run are removed by the next write.
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <cctype>
@@ -18,6 +22,7 @@
 #include "image/image.hpp"
 #include "oas/pattern.hpp"
 #include "render/plan.hpp"
+#include "render/render_file.hpp"
 #include "render/scene_data.hpp"
 #include "render/scene_pattern.hpp"
 #include "render/tracer.hpp"
@@ -101,7 +106,7 @@ private:
 int main(int argc, char** argv)
 {
     CLI::App app{"oas-render: path-trace a scene with orthogonal-array sampling"};
-    std::string scenePath, sampler, output, device = "gpu", offset;
+    std::string scenePath, sampler, output, device = "gpu", offset, samples;
     std::uint32_t spp = 0, seed = 0, strength = 0;
     bool explain = false;
     app.add_option("scene", scenePath, "scene file (JSON, see scenes/README.md)")->required();
@@ -110,6 +115,9 @@ int main(int argc, char** argv)
     app.add_option("--offset", offset, "override the OA offset")->check(CLI::IsMember({"centered", "j", "mj", "cmj"}));
     app.add_option("--strength", strength, "override the OA strength");
     app.add_option("--seed", seed, "user seed (decorrelates renders)");
+    app.add_option("--samples", samples,
+                   "render only sample indices [A, B) of every pixel, written as A:B (0 <= A < B <= spp): a shard "
+                   "for oas-merge");
     app.add_option("-o,--output", output, "output EXR (default out/<scene>.exr); a PNG preview is written beside it");
     app.add_option("--device", device, "gpu (Vulkan) or cpu (the reference tracer)")->check(CLI::IsMember({"gpu", "cpu"}));
     app.add_flag("--explain", explain, "print the dimension plan and the sampler choice, then exit");
@@ -137,9 +145,13 @@ int main(int argc, char** argv)
             std::cout << "scene " << scene.name << ": " << scene.width << "x" << scene.height << ", "
                       << scene.shapes.size() << " shapes, " << scene.lights.size() + scene.areaLightCount()
                       << " lights\n"
-                      << "dimension plan: " << plan.explain() << "sampler: " << choice << "\n";
+                      << "dimension plan: " << plan.explain() << "sampler: " << choice << "\n"
+                      << "samples per pixel: " << scene.sampler.spp << "\n";
             return 0;
         }
+        const oas::render::SampleRange range = samples.empty()
+                                                   ? oas::render::SampleRange{0, scene.sampler.spp}
+                                                   : oas::render::parseSampleRange(samples, scene.sampler.spp, "--samples");
         // The EXR and its PNG preview differ only in the extension, so the EXR's must be .exr:
         // "-o x.png" would otherwise write the preview over the image.
         if (output.empty()) output = "out/" + outputStem(scene.name, scene.path) + ".exr";
@@ -152,12 +164,12 @@ int main(int argc, char** argv)
             std::filesystem::create_directories(parent);
         const std::string png = std::filesystem::path(output).replace_extension(".png").string();
 
-        const std::uint64_t imageBytes = std::uint64_t(scene.width) * scene.height * 4 * sizeof(float);
+        const std::uint64_t imageBytes = std::uint64_t(scene.width) * scene.height * oas::render::kSumWords * 4;
         const auto outOfMemory = [&](const char* what) {
             return std::runtime_error(
                 "cannot allocate " + std::string(what) + " for a " + std::to_string(scene.width) + "x" +
                 std::to_string(scene.height) + " image (" + std::to_string(imageBytes >> 20) +
-                " MiB per float RGBA copy): valid a resolution this machine can hold");
+                " MiB per copy of the sums): valid a resolution this machine can hold");
         };
         const oas::render::SceneData data = oas::render::flattenScene(scene);
         std::unique_ptr<oas::vk::Context> context;
@@ -172,64 +184,79 @@ int main(int argc, char** argv)
             gpu = std::make_unique<oas::render::GpuTracer>(*context, data, plan, pattern);
             std::fprintf(stderr, "pipeline built in %.2f s\n", gpu->pipelineBuildSeconds());
         }
+        const std::string part = samples.empty() ? "" : ", samples " + oas::render::formatRanges({range});
         std::cerr << "rendering " << scene.name << " (" << scene.width << "x" << scene.height << ", "
-                  << scene.sampler.spp << " spp, " << plan.usedDims << "D) on " << where << "\n"
+                  << scene.sampler.spp << " spp" << part << ", " << plan.usedDims << "D) on " << where << "\n"
                   << "sampler: " << choice << "\n";
         installStopHandlers();
-        std::vector<float> cpuAccumulation;
+        oas::render::Accumulation cpuSums;
         try {
-            if (!gpu) cpuAccumulation.assign(std::size_t(scene.width) * scene.height * 4, 0.0f);
+            if (!gpu) cpuSums = oas::render::Accumulation(scene.width, scene.height);
         } catch (const std::bad_alloc&) {
             throw outOfMemory("the accumulation buffer");
         }
-        std::uint64_t nonFinite = 0;
-        Progress progress(scene.sampler.spp);
+        Progress progress(range.size());
         const auto start = std::chrono::steady_clock::now();
         const std::uint32_t done = oas::render::forEachBatch(
-            scene.width, scene.height, scene.sampler.spp, oas::render::samplesPerBatch(plan), seed,
+            scene.width, scene.height, range.end, oas::render::samplesPerBatch(plan), seed,
             [&](const oas::render::SampleBatch& batch) {
                 if (gpu)
                     gpu->trace(batch);
                 else
-                    nonFinite += oas::render::traceCpu(data, plan, pattern, batch, cpuAccumulation);
+                    oas::render::traceCpu(data, plan, pattern, batch, cpuSums);
             },
             [&](std::uint32_t samplesDone) {  // stop signals are honoured between passes
                 progress.update(samplesDone,
                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
                 return gStopSignal == 0;
-            });
+            },
+            range.first);
         const int stopSignal = gStopSignal;
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        if (stopSignal)
-            std::cerr << "\ninterrupted by " << signalName(stopSignal) << ": writing the " << done
-                      << " spp accumulated so far\n";
-        if (gpu) nonFinite = gpu->nonFiniteSamples();
+        const oas::render::SampleRange finished{range.first, range.first + done};
+        if (stopSignal) {
+            std::cerr << "\ninterrupted by " << signalName(stopSignal) << "\n";
+            if (done == 0) {
+                std::cerr << "no pass finished: nothing written\n";
+                return 128 + stopSignal;
+            }
+        }
+        oas::render::Accumulation sums;
+        try {
+            sums = gpu ? gpu->accumulation() : std::move(cpuSums);
+        } catch (const std::bad_alloc&) {
+            throw outOfMemory("the sums read back from the device");
+        }
+        auto attributes = oas::render::renderAttributes(scene, data, plan, pattern, seed);
+        attributes["oas.renderTimeSeconds"] = std::to_string(seconds);
+        attributes["oas.device"] = where;
+        attributes["oas.pipelineBuildSeconds"] = gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0";
+        attributes["oas.writer"] = "oas-render";
         oas::image::Image image;
         try {
-            image = oas::image::imageFromAccumulation(gpu ? gpu->accumulation() : cpuAccumulation, scene.width,
-                                                      scene.height);
+            oas::render::writeRenderFile(output, sums, {finished}, attributes);
+            image = sums.image();
         } catch (const std::bad_alloc&) {
             throw outOfMemory("the output image");
         }
-        auto attributes = oas::render::renderAttributes(scene, plan, pattern, done);
-        attributes["oas.renderTimeSeconds"] = std::to_string(seconds);
-        attributes["oas.device"] = where;
-        attributes["oas.nonFiniteSamples"] = std::to_string(nonFinite);
-        attributes["oas.pipelineBuildSeconds"] = gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0";
-        oas::image::writeExr(output, image, attributes);
         oas::image::writePngPreview(png, image);
         const double paths = double(scene.width) * scene.height * done;
         std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s", scene.name.c_str(), done, seconds,
                     paths / seconds / 1e6, where.c_str());
         if (gpu) std::printf(" (pipeline build before it: %.2f s)", gpu->pipelineBuildSeconds());
         std::printf("\n");
-        if (nonFinite)
-            std::printf("warning: %llu of %.0f samples had a NaN or infinite radiance and were left out of the "
-                        "pixel sums (oas.nonFiniteSamples in the EXR header)\n",
-                        static_cast<unsigned long long>(nonFinite), paths);
+        if (const std::uint64_t rejected = sums.rejectedSamples())
+            std::printf("warning: %llu of %.0f samples had a NaN, infinite, negative or huge (>= 2^64) radiance and "
+                        "were left out of the pixel sums (oas.rejectedSamples in the EXR header)\n",
+                        static_cast<unsigned long long>(rejected), paths);
         else
-            std::printf("non-finite samples: 0\n");
-        std::printf("wrote %s and %s\n", output.c_str(), png.c_str());
+            std::printf("rejected samples: 0\n");
+        std::printf("wrote %s (samples %s of %u) and %s\n", output.c_str(),
+                    oas::render::formatRanges({finished}).c_str(), scene.sampler.spp, png.c_str());
+        if (finished.end < range.end)
+            std::printf("to finish the frame: oas-render %s --samples %u:%u -o REST.exr (with the same options), "
+                        "then oas-merge %s REST.exr -o FULL.exr\n",
+                        scenePath.c_str(), finished.end, range.end, output.c_str());
         return stopSignal ? 128 + stopSignal : 0;
     } catch (const oas::scene::SceneError& e) {
         std::cerr << "oas-render: error: " << e.what() << "\n";

@@ -91,7 +91,8 @@ bool isReservedAttribute(const Imf::Header& header, const std::string& name)
 
 }  // namespace
 
-void writeExr(const std::string& path, const Image& image, const std::map<std::string, std::string>& headerAttributes)
+void writeExr(const std::string& path, const Image& image, const std::map<std::string, std::string>& headerAttributes,
+              const UintChannels& uintChannels)
 {
     checkLayout(image);
     if (image.width == 0 || image.height == 0 || image.width > INT_MAX || image.height > INT_MAX)
@@ -102,6 +103,16 @@ void writeExr(const std::string& path, const Image& image, const std::map<std::s
     Imf::Header header(w, h);
     header.compression() = Imf::ZIP_COMPRESSION;  // lossless
     for (const char* c : {"R", "G", "B", "A"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    for (const auto& [name, values] : uintChannels) {
+        if (name.empty() || header.channels().findChannel(name))
+            throw std::invalid_argument("cannot write '" + path + "': uint channel name '" + name +
+                                        "' is empty or taken by R, G, B, A");
+        if (values.size() != image.pixelCount())
+            throw std::invalid_argument("cannot write '" + path + "': uint channel '" + name + "' holds " +
+                                        std::to_string(values.size()) + " values for " +
+                                        std::to_string(image.pixelCount()) + " pixels");
+        header.channels().insert(name, Imf::Channel(Imf::UINT));
+    }
     for (const auto& [name, value] : headerAttributes) {
         if (name.empty()) throw std::invalid_argument("cannot write '" + path + "': empty EXR attribute name");
         if (isReservedAttribute(header, name))
@@ -116,6 +127,9 @@ void writeExr(const std::string& path, const Image& image, const std::map<std::s
     for (int c = 0; c < 4; ++c)
         frameBuffer.insert(names[c],
                            Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, header.dataWindow(), xStride, yStride));
+    for (const auto& [name, values] : uintChannels)
+        frameBuffer.insert(name, Imf::Slice::Make(Imf::UINT, values.data(), header.dataWindow(), sizeof(std::uint32_t),
+                                                  sizeof(std::uint32_t) * image.width));
 
     oas::removeStaleTemporaries(path);
     const std::string tmp = oas::temporaryPathFor(path);
@@ -153,7 +167,7 @@ void writeExr(const std::string& path, const Image& image, const std::map<std::s
     }
 }
 
-Image readExr(const std::string& path, std::map<std::string, std::string>* attributes)
+Image readExr(const std::string& path, std::map<std::string, std::string>* attributes, UintChannels* uintChannels)
 {
     try {
         Imf::InputFile file(path.c_str());
@@ -183,6 +197,18 @@ Image readExr(const std::string& path, std::map<std::string, std::string>* attri
         for (int c = 0; c < 4; ++c)
             frameBuffer.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, dataWindow, xStride,
                                                           yStride, 1, 1, c == 3 ? 1.0 : 0.0));
+        if (uintChannels) {
+            uintChannels->clear();
+            for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
+                if (it.channel().type != Imf::UINT) continue;
+                if (it.channel().xSampling != 1 || it.channel().ySampling != 1)
+                    throw std::runtime_error(std::string("uint channel '") + it.name() + "' is subsampled");
+                std::vector<std::uint32_t>& values = (*uintChannels)[it.name()];
+                values.assign(std::size_t(w) * std::size_t(h), 0u);
+                frameBuffer.insert(it.name(), Imf::Slice::Make(Imf::UINT, values.data(), dataWindow,
+                                                                sizeof(std::uint32_t), sizeof(std::uint32_t) * std::size_t(w)));
+            }
+        }
         file.setFrameBuffer(frameBuffer);
         file.readPixels(dataWindow.min.y, dataWindow.max.y);
 
@@ -196,23 +222,6 @@ Image readExr(const std::string& path, std::map<std::string, std::string>* attri
     } catch (const std::exception& e) {
         throw std::runtime_error("cannot read EXR '" + path + "': " + e.what());
     }
-}
-
-Image imageFromAccumulation(const std::vector<float>& accumulation, std::uint32_t width, std::uint32_t height)
-{
-    if (accumulation.size() != std::size_t(width) * height * 4)
-        throw std::invalid_argument("imageFromAccumulation: " + std::to_string(accumulation.size()) +
-                                    " floats for a " + std::to_string(width) + "x" + std::to_string(height) + " image");
-    Image image;
-    image.width = width;
-    image.height = height;
-    image.rgba.resize(accumulation.size());
-    for (std::size_t i = 0; i < accumulation.size(); i += 4) {
-        const float n = std::max(accumulation[i + 3], 1.0f);
-        for (int c = 0; c < 3; ++c) image.rgba[i + c] = accumulation[i + c] / n;
-        image.rgba[i + 3] = 1.0f;
-    }
-    return image;
 }
 
 }  // namespace oas::image

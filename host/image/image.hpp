@@ -31,25 +31,28 @@ struct Image {
 /// Throws std::invalid_argument unless rgba.size() == width * height * 4 (`what` names the image).
 void checkLayout(const Image& image, const char* what = "image");
 
+/// Channels of 32-bit unsigned integers stored beside R, G, B, A: name -> width * height values,
+/// row-major (exact data, e.g. a render's fixed-point sums, that floats cannot hold).
+using UintChannels = std::map<std::string, std::vector<std::uint32_t>>;
+
 /// Writes `image` as a scanline OpenEXR file with float32 R, G, B, A channels (ZIP compression,
-/// lossless: reading it back gives the same bits, NaN payloads included). Each entry of
+/// lossless: reading it back gives the same bits, NaN payloads included), plus `uintChannels` as
+/// OpenEXR UINT channels (names must not be R, G, B or A). Each entry of
 /// `headerAttributes` becomes an OpenEXR string attribute (e.g. "oas.spp" -> "64"); names must be
 /// non-empty and must not clash with the standard header attributes ("channels", "compression",
 /// ...). The file is written to "<path>.tmp.<pid>.<n>" and renamed over `path`.
 /// Throws std::invalid_argument for a malformed image / attribute name, std::runtime_error naming
 /// `path` when the file cannot be written (the temporary file is removed, `path` is untouched).
 void writeExr(const std::string& path, const Image& image,
-              const std::map<std::string, std::string>& headerAttributes = {});
+              const std::map<std::string, std::string>& headerAttributes = {}, const UintChannels& uintChannels = {});
 
 /// Reads the R, G, B and (optional, default 1) A channels of an OpenEXR file's data window (part 0
 /// of a multi-part file; scanline or tiled); half, float and uint channels are converted to float.
 /// When `attributes` is given it receives every string attribute of the header. Throws
 /// std::runtime_error naming `path` when the file cannot be opened or read or lacks R, G or B.
-/// The image of a radiance accumulation (width * height vec4: rgb sums, a = samples taken): the
-/// per-pixel mean, alpha 1; pixels with no samples stay black.
-Image imageFromAccumulation(const std::vector<float>& accumulation, std::uint32_t width, std::uint32_t height);
-
-Image readExr(const std::string& path, std::map<std::string, std::string>* attributes = nullptr);
+/// When `uintChannels` is given it receives every channel of OpenEXR type UINT, bit for bit.
+Image readExr(const std::string& path, std::map<std::string, std::string>* attributes = nullptr,
+              UintChannels* uintChannels = nullptr);
 
 /// The 8-bit sRGB value of a linear value: clamp(v * 2^exposure, 0, 1), the sRGB OETF
 /// (12.92 v below 0.0031308, else 1.055 v^(1/2.4) - 0.055), times 255, rounded to nearest. NaN maps

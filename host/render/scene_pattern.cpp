@@ -29,16 +29,4 @@ ScenePattern scenePattern(const oas::scene::Scene& scene, const DimensionPlan& p
     }
 }
 
-std::map<std::string, std::string> renderAttributes(const oas::scene::Scene& scene, const DimensionPlan& plan,
-                                                    const oas::Pattern& pattern, std::uint32_t sppDone)
-{
-    std::string planLine = plan.explain();
-    planLine = planLine.substr(0, planLine.find('\n'));
-    return {{"oas.spp", std::to_string(sppDone)},
-            {"oas.sppRequested", std::to_string(scene.sampler.spp)},
-            {"oas.sampler", oas::describe(pattern)},
-            {"oas.dimensionPlan", planLine},
-            {"oas.scene", scene.path.string()}};
-}
-
 }  // namespace oas::render

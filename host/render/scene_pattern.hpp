@@ -2,7 +2,6 @@
 // The sampler pattern a scene asks for (its "sampler" object, after any command-line overrides),
 // shared by oas-render and oas-view so that both render the same samples for the same request.
 #include <cstdint>
-#include <map>
 #include <string>
 
 #include "oas/pattern.hpp"
@@ -20,11 +19,5 @@ struct ScenePattern {
 /// Throws oas::InvalidArgument naming the scene file's "sampler" object, and the command-line
 /// options when `fromOptions` says they changed it.
 ScenePattern scenePattern(const oas::scene::Scene& scene, const DimensionPlan& plan, bool fromOptions);
-
-/// The EXR header attributes every render of `scene` carries, whichever program wrote it:
-/// oas.spp (accumulated), oas.sppRequested, oas.sampler, oas.dimensionPlan (the plan's first
-/// line) and oas.scene. Writers add their own (timing, device, seed, writer) to the map.
-std::map<std::string, std::string> renderAttributes(const oas::scene::Scene& scene, const DimensionPlan& plan,
-                                                    const oas::Pattern& pattern, std::uint32_t sppDone);
 
 }  // namespace oas::render

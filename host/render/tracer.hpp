@@ -1,7 +1,8 @@
 #pragma once
 // Rendering a flattened scene with the path tracer of shaders/pt/pt_trace.glsl, on the GPU
 // (pt_render.comp) or on the CPU (the same GLSL compiled as C++: the reference tracer).
-// Both accumulate radiance sums per pixel: rgb = sum of sample radiances, a = samples taken.
+// Both add into the same exact per-pixel sums (render/accumulation.hpp), so the two sides and any
+// split of the samples give sums that can be added in any order.
 #include <algorithm>
 #include <cstdint>
 #include <functional>
@@ -10,14 +11,15 @@
 #include <vector>
 
 #include "oas/pattern.hpp"
+#include "render/accumulation.hpp"
 #include "render/plan.hpp"
 #include "render/scene_data.hpp"
 #include "vk/context.hpp"
 
 namespace oas::render {
 
-/// Samples [firstSample, firstSample + count) of every pixel in the rectangle, added to
-/// accumulation (width * height vec4, row-major over the whole image).
+/// Samples [firstSample, firstSample + count) of every pixel in the rectangle, added to an
+/// accumulation of the whole image.
 struct SampleBatch {
     std::uint32_t x0 = 0, y0 = 0, width = 0, height = 0;
     std::uint32_t firstSample = 0, count = 1;
@@ -28,14 +30,14 @@ struct SampleBatch {
 /// real GPUs and under lavapipe's per-invocation loop cap (65535 iterations; DESIGN-NOTES).
 std::uint32_t samplesPerBatch(const DimensionPlan& plan);
 
-/// Visits samples [0, spp) of a width x height image as passes of sample batches, each pass over
-/// tiles of at most kRenderTile^2 pixels (bounded dispatches). `trace` gets every batch;
+/// Visits samples [firstSample, spp) of a width x height image as passes of sample batches, each
+/// pass over tiles of at most kRenderTile^2 pixels (bounded dispatches). `trace` gets every batch;
 /// `afterPass(samplesDone)` runs after each pass and returns false to stop early (Ctrl-C).
-/// Returns the samples per pixel done.
+/// Returns the samples per pixel done (counted from firstSample).
 constexpr std::uint32_t kRenderTile = 256;
 std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
                            std::uint32_t seed, const std::function<void(const SampleBatch&)>& trace,
-                           const std::function<bool(std::uint32_t)>& afterPass = {});
+                           const std::function<bool(std::uint32_t)>& afterPass = {}, std::uint32_t firstSample = 0);
 
 /// The batches of forEachBatch one at a time, for callers that interleave other work between
 /// dispatches (oas-view presents a frame every ~50 ms). With the default tile these are
@@ -44,8 +46,9 @@ std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint3
 /// same passes in the same order, so the accumulation stays bit-identical.
 class BatchCursor {
 public:
+    /// Samples [firstSample, spp) of every pixel.
     BatchCursor(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch, std::uint32_t seed,
-                std::uint32_t tile = kRenderTile);
+                std::uint32_t tile = kRenderTile, std::uint32_t firstSample = 0);
     /// Tile edge in pixels (1 .. kRenderTile) for the passes that start after this call.
     void setTile(std::uint32_t tile) { nextTile_ = std::clamp<std::uint32_t>(tile, 1, kRenderTile); }
     std::uint32_t tile() const { return tile_; }
@@ -54,20 +57,20 @@ public:
     const SampleBatch& batch() const { return batch_; }
     /// Moves to the next batch; returns true when that completed a pass over the image.
     bool advance();
-    /// Samples per pixel of the completed passes.
+    /// Samples per pixel of the completed passes (counted from firstSample).
     std::uint32_t samplesDone() const { return done_; }
 
 private:
     void startPass();
-    std::uint32_t width_, height_, spp_, perBatch_, done_ = 0;
+    std::uint32_t width_, height_, spp_, perBatch_, first_, done_ = 0;
     std::uint32_t tile_ = kRenderTile, nextTile_ = kRenderTile;
     SampleBatch batch_;
 };
 
-/// The CPU reference: `threads` workers (0: all). Returns the number of samples whose radiance
-/// was not finite; those are left out of the sums (but counted in a), as on the GPU.
+/// The CPU reference: `threads` workers (0: all). Returns the number of samples rejected (NaN,
+/// infinite, negative or >= 2^64 radiance): left out of the sums, counted as samples, as on the GPU.
 std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,
-                       const SampleBatch& batch, std::vector<float>& accumulation, unsigned threads = 0);
+                       const SampleBatch& batch, Accumulation& accumulation, unsigned threads = 0);
 
 /// One sample's radiance on the CPU (tests: compare single samples).
 glm::vec3 radianceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, std::uint32_t px,
@@ -86,14 +89,11 @@ public:
     ~GpuTracer();
     /// Dispatches the batch (the whole rectangle in one dispatch) and waits.
     void trace(const SampleBatch& batch);
-    /// The accumulation buffer (width * height vec4 of the image).
-    std::vector<float> accumulation() const;
-    /// Samples whose radiance was not finite (NaN or inf) since the last clear(): left out of the
-    /// sums, counted here so that a render can report them (our scenes have none).
-    std::uint64_t nonFiniteSamples() const;
-    /// Continues counting from `count` (a render resumed from an earlier one's count). The GPU
-    /// counts in 64 bits, so the count never wraps.
-    void setNonFiniteSamples(std::uint64_t count);
+    /// The exact sums of every pixel since the last clear().
+    Accumulation accumulation() const;
+    /// Samples rejected since the last clear() (NaN, infinite, negative or >= 2^64 radiance): left
+    /// out of the sums, counted so that a render can report them (our scenes have none).
+    std::uint64_t rejectedSamples() const;
     void clear();
     /// Whether `pattern` runs on this tracer's pipeline (same construction, offset and field kind:
     /// the specialization constants); other pattern fields are push constants.

@@ -184,13 +184,13 @@ glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const P
 }
 
 std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, const SampleBatch& b,
-                       std::vector<float>& accumulation, unsigned threads)
+                       Accumulation& accumulation, unsigned threads)
 {
     const CpuContext context = makeContext(data, plan, pattern);
     const auto imageWidth = std::uint32_t(data.globals.image.x);
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     std::atomic<std::uint32_t> nextRow{0};
-    std::atomic<std::uint64_t> nonFinite{0};
+    std::atomic<std::uint64_t> rejectedTotal{0};
     auto work = [&] {
         tContext = &context;
         for (std::uint32_t row; (row = nextRow++) < b.height;) {
@@ -198,20 +198,18 @@ std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const P
             for (std::uint32_t px = b.x0; px < b.x0 + b.width; ++px) {
                 shared::PtSampleState st;
                 st.seed = glsl::oas_pixel_seed(px, py, b.seed);
-                glm::vec3 sum(0.0f);
+                pt::PtSum sum = pt::pt_sum_zero();
+                std::uint32_t rejected = 0;
                 for (std::uint32_t i = 0; i < b.count; ++i) {
                     st.index = b.firstSample + i;
                     const glm::vec3 l = shared::pt_radiance(st, px, py);
-                    if (shared::pt_finite(l))
-                        sum += l;
+                    if (pt::pt_summable(l))
+                        sum = pt::pt_sum_add(sum, pt::pt_sum_of(l));
                     else
-                        ++nonFinite;
+                        ++rejected;
                 }
-                float* acc = &accumulation[(std::size_t(py) * imageWidth + px) * 4];
-                acc[0] += sum.x;
-                acc[1] += sum.y;
-                acc[2] += sum.z;
-                acc[3] += float(b.count);
+                accumulation.addToPixel(std::size_t(py) * imageWidth + px, sum.lo, sum.mid, sum.hi, b.count, rejected);
+                rejectedTotal += rejected;
             }
         }
         tContext = nullptr;
@@ -220,7 +218,7 @@ std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const P
     for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);
     work();
     for (auto& t : pool) t.join();
-    return nonFinite.load();
+    return rejectedTotal.load();
 }
 
 }  // namespace oas::render

@@ -37,7 +37,7 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
         {20, plan.pixel}, {21, plan.lens}, {22, plan.time}, {23, plan.vertexBase}, {24, plan.vertexStride},
         {25, plan.lightSelect}, {26, plan.lightUV}, {27, plan.bsdfUV}, {28, plan.lobe}, {29, plan.roulette}};
     const auto buildStart = std::chrono::steady_clock::now();
-    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 8,
+    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 7,
                                                       std::uint32_t(sizeof(RenderParams)), spec);
     pipelineBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
     buffers_.push_back(upload(context_, data.shapes));
@@ -45,9 +45,9 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     buffers_.push_back(upload(context_, data.lights));
     buffers_.push_back(upload(context_, data.nodes));
     buffers_.push_back(upload(context_, std::vector<pt::PtGlobals>{data.globals}));
-    buffers_.push_back(std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * 4 * sizeof(float)));
+    buffers_.push_back(
+        std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * kSumWords * sizeof(std::uint32_t)));
     buffers_.push_back(upload(context_, sobolDirections()));
-    buffers_.push_back(std::make_unique<vk::Buffer>(context_, 2 * sizeof(std::uint32_t)));  // non-finite count, 64 bits
     clear();
 }
 
@@ -72,8 +72,9 @@ std::uint32_t samplesPerBatch(const DimensionPlan& plan)
 }
 
 BatchCursor::BatchCursor(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
-                         std::uint32_t seed, std::uint32_t tile)
-    : width_(width), height_(height), spp_(width && height ? spp : 0), perBatch_(std::max(1u, perBatch))
+                         std::uint32_t seed, std::uint32_t tile, std::uint32_t firstSample)
+    : width_(width), height_(height), spp_(width && height && spp > firstSample ? spp - firstSample : 0),
+      perBatch_(std::max(1u, perBatch)), first_(firstSample)
 {
     setTile(tile);
     batch_.seed = seed;
@@ -83,7 +84,7 @@ BatchCursor::BatchCursor(std::uint32_t width, std::uint32_t height, std::uint32_
 void BatchCursor::startPass()
 {
     tile_ = nextTile_;
-    batch_.firstSample = done_;
+    batch_.firstSample = first_ + done_;
     batch_.count = std::min(perBatch_, spp_ - std::min(spp_, done_));
     batch_.x0 = batch_.y0 = 0;
     batch_.width = std::min(tile_, width_);
@@ -111,9 +112,9 @@ bool BatchCursor::advance()
 
 std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
                            std::uint32_t seed, const std::function<void(const SampleBatch&)>& trace,
-                           const std::function<bool(std::uint32_t)>& afterPass)
+                           const std::function<bool(std::uint32_t)>& afterPass, std::uint32_t firstSample)
 {
-    BatchCursor cursor(width, height, spp, perBatch, seed);
+    BatchCursor cursor(width, height, spp, perBatch, seed, kRenderTile, firstSample);
     while (!cursor.done()) {
         trace(cursor.batch());
         if (cursor.advance() && afterPass && !afterPass(cursor.samplesDone())) break;
@@ -121,24 +122,9 @@ std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint3
     return cursor.samplesDone();
 }
 
-void GpuTracer::clear()
-{
-    std::memset(buffers_[5]->data(), 0, buffers_[5]->size());
-    std::memset(buffers_[7]->data(), 0, buffers_[7]->size());
-}
+void GpuTracer::clear() { std::memset(buffers_[5]->data(), 0, buffers_[5]->size()); }
 
-std::uint64_t GpuTracer::nonFiniteSamples() const
-{
-    std::uint32_t words[2] = {0, 0};  // low, high (pt_render.comp)
-    std::memcpy(words, buffers_[7]->data(), sizeof words);
-    return std::uint64_t(words[1]) << 32 | words[0];
-}
-
-void GpuTracer::setNonFiniteSamples(std::uint64_t count)
-{
-    const std::uint32_t words[2] = {std::uint32_t(count), std::uint32_t(count >> 32)};
-    std::memcpy(buffers_[7]->data(), words, sizeof words);
-}
+std::uint64_t GpuTracer::rejectedSamples() const { return accumulation().rejectedSamples(); }
 
 void GpuTracer::trace(const SampleBatch& b)
 {
@@ -148,10 +134,10 @@ void GpuTracer::trace(const SampleBatch& b)
     context_.dispatch(*pipeline_, bindings, &params, sizeof(params), (b.width + 7) / 8, (b.height + 7) / 8);
 }
 
-std::vector<float> GpuTracer::accumulation() const
+Accumulation GpuTracer::accumulation() const
 {
-    std::vector<float> out(std::size_t(width_) * height_ * 4);
-    std::memcpy(out.data(), buffers_[5]->data(), out.size() * sizeof(float));
+    Accumulation out(width_, height_);
+    std::memcpy(out.words.data(), buffers_[5]->data(), out.words.size() * sizeof(std::uint32_t));
     return out;
 }
 

@@ -40,6 +40,7 @@
 #include "oas/generate_gpu.hpp"
 #include "oas/pattern.hpp"
 #include "render/plan.hpp"
+#include "render/render_file.hpp"
 #include "render/scene_data.hpp"
 #include "render/scene_pattern.hpp"
 #include "render/tracer.hpp"
@@ -360,6 +361,7 @@ public:
                 return shown_;
             }
             tracer_ = building_.get();
+            deviceName_ = v.context().deviceName();
             if (!tracer_->accepts(pattern_)) return shown_;  // switched again meanwhile: build that one next frame
             tracer_->setPattern(pattern_);
             tracer_->clear();
@@ -391,7 +393,8 @@ public:
         const std::uint32_t done = cursor_->samplesDone();
         if (done != samplesShown_ || shown_.width == 0 || falseColour_ != shownFalseColour_) {
             // Completed passes only, so every pixel of the shown image has the same spp.
-            image_ = oas::image::imageFromAccumulation(tracer_->accumulation(), scene_.width, scene_.height);
+            shownSums_ = tracer_->accumulation();
+            image_ = shownSums_.image();
             const oas::image::Image shownImage =
                 falseColour_ && reference_ ? oas::image::falseColourError(image_, *reference_) : image_;
             oas::view::Frame f;
@@ -441,10 +444,12 @@ public:
         const std::string exr = stem_ + ".exr", png = stem_ + ".png";
         if (const auto parent = std::filesystem::path(exr).parent_path(); !parent.empty())
             std::filesystem::create_directories(parent);
-        auto attributes = oas::render::renderAttributes(scene_, plan_, pattern_, samplesShown_);
-        attributes["oas.seed"] = std::to_string(o_.seed);
+        // A render file like oas-render's (mergeable with shards of the same frame): the sums of
+        // the completed passes, samples [0, samplesShown_).
+        auto attributes = oas::render::renderAttributes(scene_, data_, plan_, pattern_, o_.seed);
         attributes["oas.writer"] = "oas-view";
-        oas::image::writeExr(exr, image_, attributes);
+        attributes["oas.device"] = deviceName_;
+        oas::render::writeRenderFile(exr, shownSums_, {{0, samplesShown_}}, attributes);
         oas::image::writePngPreview(png, image_);
         std::printf("wrote %s and %s (%u spp, %s)\n", exr.c_str(), png.c_str(), samplesShown_, choice_.c_str());
     }
@@ -456,7 +461,7 @@ private:
     oas::render::SceneData data_;
     std::optional<oas::image::Image> reference_;
     oas::Pattern pattern_;
-    std::string choice_, status_, stem_;
+    std::string choice_, status_, stem_, deviceName_;
     std::unique_ptr<oas::render::GpuTracer> tracer_;
     std::future<std::unique_ptr<oas::render::GpuTracer>> building_;
     std::optional<oas::render::BatchCursor> cursor_;
@@ -465,6 +470,7 @@ private:
     double traceSeconds_ = 0, relMse_ = 0, passSlowest_ = 0;
     Clock::time_point renderStart_ = Clock::now(), buildStart_ = Clock::now();
     oas::image::Image image_;
+    oas::render::Accumulation shownSums_;  ///< the sums image_ shows (completed passes only)
     oas::view::Frame shown_;
 };
 

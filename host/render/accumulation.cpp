@@ -1,0 +1,78 @@
+#include "render/accumulation.hpp"
+
+#include <limits>
+#include <stdexcept>
+
+namespace oas::render {
+
+Accumulation::Accumulation(std::uint32_t w, std::uint32_t h) : width(w), height(h), words(std::size_t(w) * h * kSumWords, 0u)
+{
+}
+
+void Accumulation::addToPixel(std::size_t i, glm::uvec3 lo, glm::uvec3 mid, glm::uvec3 hi, std::uint32_t samples,
+                              std::uint32_t rejected)
+{
+    std::uint32_t* p = pixel(i);
+    pt::PtSum sum, before;
+    sum.lo = lo;
+    sum.mid = mid;
+    sum.hi = hi;
+    for (int c = 0; c < 3; ++c) {
+        before.lo[c] = p[3 * c];
+        before.mid[c] = p[3 * c + 1];
+        before.hi[c] = p[3 * c + 2];
+    }
+    const pt::PtSum after = pt::pt_sum_add(before, sum);
+    for (int c = 0; c < 3; ++c) {
+        p[3 * c] = after.lo[c];
+        p[3 * c + 1] = after.mid[c];
+        p[3 * c + 2] = after.hi[c];
+    }
+    p[pt::PT_SUM_COUNT_WORD] += samples;
+    p[pt::PT_SUM_REJECTED_WORD] += rejected;
+}
+
+void Accumulation::add(const Accumulation& other)
+{
+    if (other.width != width || other.height != height || other.words.size() != words.size())
+        throw std::invalid_argument("cannot add a " + std::to_string(other.width) + "x" + std::to_string(other.height) +
+                                    " accumulation to a " + std::to_string(width) + "x" + std::to_string(height) + " one");
+    constexpr std::uint32_t kMax = std::numeric_limits<std::uint32_t>::max();
+    for (std::size_t i = 0; i < pixelCount(); ++i)
+        if (samples(i) > kMax - other.samples(i))
+            throw std::overflow_error("pixel " + std::to_string(i % width) + "," + std::to_string(i / width) +
+                                      " would hold more than 2^32 - 1 samples");
+    for (std::size_t i = 0; i < pixelCount(); ++i) {
+        const std::uint32_t* q = other.pixel(i);
+        addToPixel(i, {q[0], q[3], q[6]}, {q[1], q[4], q[7]}, {q[2], q[5], q[8]}, q[pt::PT_SUM_COUNT_WORD],
+                   q[pt::PT_SUM_REJECTED_WORD]);
+    }
+}
+
+std::uint64_t Accumulation::rejectedSamples() const
+{
+    std::uint64_t total = 0;
+    for (std::size_t i = 0; i < pixelCount(); ++i) total += rejected(i);
+    return total;
+}
+
+double sumValue(const std::uint32_t* p, int c)
+{
+    return double(p[3 * c + 2]) * 4294967296.0 + double(p[3 * c + 1]) + double(p[3 * c]) * (1.0 / 4294967296.0);
+}
+
+float meanValue(const std::uint32_t* p, int c)
+{
+    const std::uint32_t n = p[pt::PT_SUM_COUNT_WORD];
+    return n == 0 ? 0.0f : float(sumValue(p, c) / double(n));
+}
+
+image::Image Accumulation::image() const
+{
+    image::Image out(width, height, 0.0f, 0.0f, 0.0f, 1.0f);
+    for (std::size_t i = 0; i < pixelCount(); ++i)
+        for (int c = 0; c < 3; ++c) out.rgba[i * 4 + c] = meanValue(pixel(i), c);
+    return out;
+}
+
+}  // namespace oas::render

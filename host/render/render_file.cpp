@@ -1,0 +1,293 @@
+#include "render/render_file.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <cstring>
+#include <set>
+#include <stdexcept>
+
+#include "image/image.hpp"
+#include "oas/pattern.hpp"
+
+namespace oas::render {
+namespace {
+
+/// The sums' UINT channels, in word order (pixel word k is kSumChannels[k]); the spare word is
+/// not stored.
+const std::vector<std::string>& sumChannels()
+{
+    static const std::vector<std::string> names = {"sum.R0", "sum.R1", "sum.R2", "sum.G0",      "sum.G1",
+                                                   "sum.G2", "sum.B0", "sum.B1", "sum.B2", "sum.samples",
+                                                   "sum.rejected"};
+    return names;
+}
+
+/// A decimal uint32 making up the whole of `text`.
+bool parseUint(std::string_view text, std::uint32_t& value)
+{
+    if (text.empty() || text.front() < '0' || text.front() > '9') return false;
+    const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+    return ec == std::errc() && end == text.data() + text.size();
+}
+
+/// FNV-1a, 64 bits, over the bytes of `data` (the flattened scene's structs are built from vec4s
+/// with no padding, so their bytes are their values).
+struct Fnv1a {
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    void bytes(const void* data, std::size_t size)
+    {
+        const auto* p = static_cast<const unsigned char*>(data);
+        for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
+    }
+    template <class T>
+    void items(const std::vector<T>& v)
+    {
+        const std::uint64_t n = v.size();
+        bytes(&n, sizeof n);
+        bytes(v.data(), v.size() * sizeof(T));
+    }
+};
+
+std::string hex(std::uint64_t v, int digits)
+{
+    char buffer[24];
+    std::snprintf(buffer, sizeof buffer, "%0*llx", digits, static_cast<unsigned long long>(v));
+    return buffer;
+}
+
+std::string sceneHash(const SceneData& data)
+{
+    Fnv1a f;
+    f.items(data.shapes);
+    f.items(data.materials);
+    f.items(data.lights);
+    f.items(data.nodes);
+    f.bytes(&data.globals, sizeof data.globals);
+    return hex(f.h, 16);
+}
+
+std::string patternWords(const Pattern& pattern)
+{
+    std::uint32_t words[sizeof(Pattern) / 4];
+    std::memcpy(words, &pattern, sizeof words);
+    std::string out;
+    for (std::uint32_t w : words) {
+        if (!out.empty()) out += ' ';
+        out += hex(w, 8);
+    }
+    return out;
+}
+
+/// Parses oas.samples: "A:B[,C:D...]", sorted, disjoint, non-adjacent, non-empty ranges.
+std::vector<SampleRange> parseRanges(const std::string& text, const std::string& path)
+{
+    std::vector<SampleRange> ranges;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        const std::string_view item(text.data() + start, comma - start);
+        const std::size_t colon = item.find(':');
+        SampleRange r;
+        if (colon == std::string_view::npos || !parseUint(item.substr(0, colon), r.first) ||
+            !parseUint(item.substr(colon + 1), r.end) || r.first >= r.end ||
+            (!ranges.empty() && r.first <= ranges.back().end))
+            throw InvalidArgument(path + ": header field oas.samples is '" + text +
+                                  "': valid a list of increasing, disjoint ranges A:B (A < B), e.g. 0:16 or 0:4,9:16");
+        ranges.push_back(r);
+        start = comma + 1;
+    }
+    return ranges;
+}
+
+std::uint64_t totalSamples(const std::vector<SampleRange>& ranges)
+{
+    std::uint64_t n = 0;
+    for (const SampleRange& r : ranges) n += r.size();
+    return n;
+}
+
+/// Sorts and joins touching ranges; false when two overlap.
+bool normalize(std::vector<SampleRange>& ranges)
+{
+    std::sort(ranges.begin(), ranges.end(), [](auto& a, auto& b) { return a.first < b.first; });
+    std::vector<SampleRange> out;
+    for (const SampleRange& r : ranges) {
+        if (!out.empty() && r.first < out.back().end) return false;
+        if (!out.empty() && r.first == out.back().end)
+            out.back().end = r.end;
+        else
+            out.push_back(r);
+    }
+    ranges = out;
+    return true;
+}
+
+}  // namespace
+
+SampleRange parseSampleRange(const std::string& text, std::uint32_t spp, const std::string& what)
+{
+    const std::size_t colon = text.find(':');
+    SampleRange r;
+    if (colon == std::string::npos || !parseUint(std::string_view(text).substr(0, colon), r.first) ||
+        !parseUint(std::string_view(text).substr(colon + 1), r.end) || r.first >= r.end || r.end > spp)
+        throw InvalidArgument(what + " " + text + ": valid A:B, the sample indices [A, B) with 0 <= A < B <= " +
+                              std::to_string(spp) + " (the frame's samples per pixel), e.g. 0:" +
+                              std::to_string((spp + 1) / 2));
+    return r;
+}
+
+std::string formatRanges(const std::vector<SampleRange>& ranges)
+{
+    std::string out;
+    for (const SampleRange& r : ranges) {
+        if (!out.empty()) out += ',';
+        out += std::to_string(r.first) + ":" + std::to_string(r.end);
+    }
+    return out;
+}
+
+const std::vector<std::string>& frameFields()
+{
+    // oas.sampler before oas.pattern: the same fact, but a mismatch reads better in words.
+    static const std::vector<std::string> fields = {"oas.format",  "oas.sceneHash", "oas.resolution",
+                                                    "oas.sampler", "oas.pattern",   "oas.dimensionPlan",
+                                                    "oas.seed"};
+    return fields;
+}
+
+std::map<std::string, std::string> renderAttributes(const scene::Scene& scene, const SceneData& data,
+                                                    const DimensionPlan& plan, const Pattern& pattern,
+                                                    std::uint32_t seed)
+{
+    std::string planLine = plan.explain();
+    planLine = planLine.substr(0, planLine.find('\n'));
+    return {{"oas.format", kRenderFormat},
+            {"oas.sceneHash", sceneHash(data)},
+            {"oas.resolution", std::to_string(scene.width) + "x" + std::to_string(scene.height)},
+            {"oas.pattern", patternWords(pattern)},
+            {"oas.dimensionPlan", planLine},
+            {"oas.seed", std::to_string(seed)},
+            {"oas.sampler", oas::describe(pattern)},
+            {"oas.sppRequested", std::to_string(scene.sampler.spp)},
+            {"oas.scene", scene.path.string()}};
+}
+
+void writeRenderFile(const std::string& path, const Accumulation& sums, const std::vector<SampleRange>& ranges,
+                     std::map<std::string, std::string> attributes)
+{
+    const std::uint64_t held = totalSamples(ranges);
+    for (std::size_t i = 0; i < sums.pixelCount(); ++i)
+        if (sums.samples(i) != held)
+            throw std::logic_error("writeRenderFile: pixel " + std::to_string(i) + " holds " +
+                                   std::to_string(sums.samples(i)) + " samples, the ranges " + formatRanges(ranges));
+    image::UintChannels channels;
+    for (std::size_t k = 0; k < sumChannels().size(); ++k) {
+        std::vector<std::uint32_t>& values = channels[sumChannels()[k]];
+        values.resize(sums.pixelCount());
+        for (std::size_t i = 0; i < sums.pixelCount(); ++i) values[i] = sums.pixel(i)[k];
+    }
+    attributes["oas.format"] = kRenderFormat;
+    attributes["oas.samples"] = formatRanges(ranges);
+    attributes["oas.spp"] = std::to_string(held);
+    attributes["oas.rejectedSamples"] = std::to_string(sums.rejectedSamples());
+    image::writeExr(path, sums.image(), attributes, channels);
+}
+
+RenderFile readRenderFile(const std::string& path)
+{
+    RenderFile file;
+    image::UintChannels channels;
+    image::Image mean;
+    try {
+        mean = image::readExr(path, &file.attributes, &channels);
+    } catch (const std::runtime_error& e) {
+        throw InvalidArgument(e.what());
+    }
+    const auto field = [&](const std::string& name) -> const std::string& {
+        const auto it = file.attributes.find(name);
+        if (it == file.attributes.end())
+            throw InvalidArgument(path + ": header field " + name + " is missing: this is not a render file of " +
+                                  "oas-render, oas-view or oas-merge (those hold exact sums)");
+        return it->second;
+    };
+    if (const std::string& format = field("oas.format"); format != kRenderFormat)
+        throw InvalidArgument(path + ": header field oas.format is '" + format + "': valid '" + kRenderFormat +
+                              "' (a render file of this version of oas)");
+    for (const std::string& name : frameFields()) field(name);
+    for (const std::string& name : sumChannels())
+        if (!channels.count(name))
+            throw InvalidArgument(path + ": channel " + name + " is missing: a render file holds the exact sums in " +
+                                  "UINT channels sum.R0 ... sum.rejected");
+    if (field("oas.resolution") != std::to_string(mean.width) + "x" + std::to_string(mean.height))
+        throw InvalidArgument(path + ": header field oas.resolution is '" + field("oas.resolution") +
+                              "' but the image is " + std::to_string(mean.width) + "x" + std::to_string(mean.height));
+    file.ranges = parseRanges(field("oas.samples"), path);
+    const std::uint64_t held = totalSamples(file.ranges);
+    file.sums = Accumulation(mean.width, mean.height);
+    for (std::size_t k = 0; k < sumChannels().size(); ++k) {
+        const std::vector<std::uint32_t>& values = channels.at(sumChannels()[k]);
+        for (std::size_t i = 0; i < file.sums.pixelCount(); ++i) file.sums.pixel(i)[k] = values[i];
+    }
+    for (std::size_t i = 0; i < file.sums.pixelCount(); ++i)
+        if (file.sums.samples(i) != held || file.sums.rejected(i) > held)
+            throw InvalidArgument(path + ": pixel " + std::to_string(i % mean.width) + "," +
+                                  std::to_string(i / mean.width) + " holds " + std::to_string(file.sums.samples(i)) +
+                                  " samples (" + std::to_string(file.sums.rejected(i)) +
+                                  " rejected) but header field oas.samples says " + std::to_string(held) + " (" +
+                                  field("oas.samples") + ")");
+    return file;
+}
+
+RenderFile mergeRenders(const std::vector<RenderFile>& renders, const std::vector<std::string>& names)
+{
+    if (renders.empty() || names.size() != renders.size())
+        throw std::invalid_argument("mergeRenders: one name per render, at least one render");
+    RenderFile merged = renders.front();
+    const auto value = [](const RenderFile& f, const std::string& name) {
+        const auto it = f.attributes.find(name);
+        return it == f.attributes.end() ? std::string("(missing)") : it->second;
+    };
+    double seconds = 0;
+    std::vector<std::string> devices;
+    std::vector<std::pair<SampleRange, std::size_t>> owners;  // every range with the render holding it
+    for (std::size_t r = 0; r < renders.size(); ++r) {
+        const RenderFile& f = renders[r];
+        for (const std::string& name : frameFields())
+            if (value(f, name) != value(renders.front(), name))
+                throw InvalidArgument(names[r] + ": header field " + name + " is '" + value(f, name) + "' but " +
+                                      names.front() + " has '" + value(renders.front(), name) +
+                                      "': shards of one frame share the scene, resolution, sampler, plan and seed");
+        for (const SampleRange& range : f.ranges) owners.push_back({range, r});
+        if (r > 0) merged.sums.add(f.sums);
+        try {
+            seconds += std::stod(value(f, "oas.renderTimeSeconds"));
+        } catch (const std::exception&) {
+        }
+        const std::string device = value(f, "oas.device");
+        if (std::find(devices.begin(), devices.end(), device) == devices.end()) devices.push_back(device);
+    }
+    std::sort(owners.begin(), owners.end(), [](auto& a, auto& b) { return a.first.first < b.first.first; });
+    for (std::size_t i = 1; i < owners.size(); ++i)
+        if (owners[i].first.first < owners[i - 1].first.end)
+            throw InvalidArgument(names[owners[i].second] + ": samples " + formatRanges({owners[i].first}) +
+                                  " overlap samples " + formatRanges({owners[i - 1].first}) + " of " +
+                                  names[owners[i - 1].second] + ": each sample may be merged once");
+    merged.ranges.clear();
+    for (const auto& [range, owner] : owners) merged.ranges.push_back(range);
+    normalize(merged.ranges);
+    std::string deviceList;
+    for (const std::string& d : devices) {
+        if (!deviceList.empty()) deviceList += " + ";
+        deviceList += d;
+    }
+    merged.attributes["oas.device"] = deviceList;
+    merged.attributes["oas.renderTimeSeconds"] = std::to_string(seconds);
+    merged.attributes["oas.shards"] = std::to_string(renders.size());
+    merged.attributes["oas.samples"] = formatRanges(merged.ranges);
+    merged.attributes["oas.spp"] = std::to_string(totalSamples(merged.ranges));
+    merged.attributes["oas.rejectedSamples"] = std::to_string(merged.sums.rejectedSamples());
+    return merged;
+}
+
+}  // namespace oas::render
