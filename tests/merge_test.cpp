@@ -10,6 +10,8 @@
 #include <fstream>
 #include <limits>
 #include <random>
+#include <csignal>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -439,5 +441,77 @@ TEST(RenderFile, SampleRangeParsingTakesOnlyWellFormedRangesAndNeverCrashes)
             }
         }
     }
+    fs::remove_all(dir);
+}
+
+TEST(MergeCli, AnInterruptedRenderIsAShardThatTheRestCompletes)
+{
+    // SIGTERM once the first pass is reported (oas-render prints a progress line after every
+    // pass when stderr is not a terminal): the render stops after the pass it is in and writes
+    // what it finished as a shard. Rendering the rest with the --samples range it prints, and
+    // merging, gives the uninterrupted render bit for bit: no work is lost.
+    const fs::path dir = scratchDir("interrupt");
+    std::ifstream in(std::string(OAS_SCENES_DIR) + "/cornell7d.json");
+    nlohmann::json json = nlohmann::json::parse(in);
+    json["sampler"]["spp"] = 64;  // 8 passes of 8 samples, ~0.1 s each on the CPU here
+    json["resolution"] = {128, 128};
+    const std::string scene = (dir / "scene.json").string();
+    std::ofstream(scene) << json.dump();
+    const std::string part = (dir / "part.exr").string();
+
+    int pipeFds[2];
+    ASSERT_EQ(::pipe(pipeFds), 0);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDERR_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDOUT_FILENO);
+    posix_spawn_file_actions_addclose(&actions, pipeFds[0]);
+    std::vector<std::string> args = {OAS_RENDER_EXE, scene, "--device", "cpu", "-o", part};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    pid_t pid = 0;
+    ASSERT_EQ(posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ), 0);
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(pipeFds[1]);
+    std::string output;
+    bool signalled = false;
+    char buffer[256];
+    for (ssize_t n; (n = ::read(pipeFds[0], buffer, sizeof buffer)) > 0;) {
+        output.append(buffer, std::size_t(n));
+        if (!signalled && output.find("progress: ") != std::string::npos) {
+            ::kill(pid, SIGTERM);
+            signalled = true;
+        }
+    }
+    ::close(pipeFds[0]);
+    int status = 0;
+    ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+    ASSERT_TRUE(signalled) << output;
+    ASSERT_TRUE(WIFEXITED(status)) << output;
+    EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << output;
+
+    const auto shard = oas::render::readRenderFile(part);
+    ASSERT_EQ(shard.ranges.size(), 1u);
+    const std::uint32_t done = shard.ranges[0].end;
+    EXPECT_EQ(shard.ranges[0].first, 0u);
+    ASSERT_GT(done, 0u);
+    ASSERT_LT(done, 64u) << "the render finished before the signal: make it longer";
+    EXPECT_EQ(done % 8, 0u) << "whole passes";
+    const std::string rest = "--samples " + std::to_string(done) + ":64";
+    EXPECT_NE(output.find(rest), std::string::npos) << "it says how to finish: " << output;
+
+    std::string log;
+    const std::string render = std::string(OAS_RENDER_EXE) + " " + scene + " --device cpu";
+    ASSERT_EQ(run(render + " " + rest + " -o " + (dir / "rest.exr").string(), &log), 0) << log;
+    ASSERT_EQ(run(render + " -o " + (dir / "whole.exr").string(), &log), 0) << log;
+    ASSERT_EQ(run(std::string(OAS_MERGE_EXE) + " " + part + " " + (dir / "rest.exr").string() + " --expect 0:64 -o " +
+                      (dir / "merged.exr").string(), &log),
+              0)
+        << log;
+    EXPECT_EQ(run(std::string(OAS_DIFF_EXE) + " --exact " + (dir / "merged.exr").string() + " " +
+                      (dir / "whole.exr").string(), &log),
+              0)
+        << log;
     fs::remove_all(dir);
 }
