@@ -9,6 +9,7 @@ packages=(
   libglm-dev libglfw3-dev libopenexr-dev
   nlohmann-json3-dev libcli11-dev libfmt-dev libstb-dev libgtest-dev
   python3-scipy  # tests/sobol_scipy_test.py: the Sobol baseline against scipy.stats.qmc.Sobol
+  python3-distributed  # scripts/cluster.py (Dask) and its test, tests/cluster_test.py
   xvfb xauth     # tests/view_test.cpp: oas-view under a virtual X server (xvfb-run); lavapipe presents to X11
   "$@"
 )
