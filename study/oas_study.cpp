@@ -21,6 +21,7 @@
 #include "cost_study.hpp"
 #include "experiment.hpp"
 #include "pair_study.hpp"
+#include "scene_costs.hpp"
 #include "scene_study.hpp"
 #include "spectrum.hpp"
 #include "integrands.hpp"
@@ -43,6 +44,15 @@ std::string cpuModel()
             if (p != std::string::npos) return line.substr(p + 2);
         }
     return "unknown CPU";
+}
+
+/// UTC "YYYYMMDDTHHMMSSZ": run ids.
+std::string timestamp()
+{
+    const std::time_t now = std::time(nullptr);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y%m%dT%H%M%SZ", std::gmtime(&now));
+    return text;
 }
 
 std::string today()
@@ -117,11 +127,21 @@ std::string goalLines(const std::string& section)
 /// docs/STUDY.md from the parts' sections in outDir (each states its own machine, date, command).
 void assembleStudy(const std::string& studyMd, const std::string& outDir)
 {
-    const std::string scenes = readFile(outDir + "/scenes.md"), cost = readFile(outDir + "/cost.md"),
+    std::string scenes = readFile(outDir + "/scenes.md");
+    // The scene section's short answer (which sampler, at what time, on which machine) opens the
+    // file, before any method text; the section keeps the rest.
+    std::string answer;
+    if (const size_t at = scenes.find("### The short answer"); at != std::string::npos) {
+        const size_t end = scenes.find("\n| scene | device |", at);
+        answer = scenes.substr(at, end == std::string::npos ? std::string::npos : end + 1 - at);
+        scenes.erase(at, answer.size());
+        answer.replace(0, std::string("### The short answer").size(), "## The short answer");
+    }
+    const std::string cost = readFile(outDir + "/cost.md"),
                       analytic = readFile(outDir + "/analytic.md"), spectra = readFile(outDir + "/spectra.md"),
                       pairs = readFile(outDir + "/pairs.md");
     std::ostringstream o;
-    o << "# Study: which sampler should I use, and at what cost?\n\n"
+    o << "# Study: which sampler should I use, and at what cost?\n\n" << answer
       << "Orthogonal-array samplers (Jarosz et al. 2019) against the baselines of the paper, measured by this "
          "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: every sampler, "
          "64 px, at least 6 renders per scene point plus up to " << kFullExtraSeconds << " s of further renders per "
@@ -132,8 +152,10 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
          "states the machine, date and command that made it. Assembled " << today() << " on " << cpuModel()
       << ".\n\n"
       << "Scope: in full mode the scene ladders run from 16 to 1024 spp (the 7D and 9D scenes also at the "
-         "paper's 3969/4096) and images are 64 px wide, because lavapipe renders these scenes at well under 1 "
-         "Mpaths/s on 2 cores; the scene section's first table gives each scene's own settings. "
+         "paper's 3969/4096) and images are 64 px wide, because lavapipe renders these scenes at a few Mpaths/s at most on 2 cores "
+         "(the scene section's cost table gives each sampler's rate); its first table gives each scene's own "
+         "settings. Errors and times are measured apart: errors from the accuracy renders (bit-identical on any "
+         "machine, so they may be pooled over runs), times from one cost run per scene (scene_costs.csv). "
          "Every relMSE is a mean over independent renders "
          "with n and the standard error next to it (marked \"cap\" where the s.e. is still above 10% of the "
          "mean); verdicts are ties unless two numbers differ by more than twice their combined s.e. The scenes "
@@ -164,7 +186,7 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
         }
     }
     o << goalLines(scenes) << "\n";
-    for (const auto* part : {&scenes, &cost, &spectra, &analytic, &pairs})
+    for (const std::string* part : {static_cast<const std::string*>(&scenes), &cost, &spectra, &analytic, &pairs})
         if (!part->empty()) o << *part << "\n";
     writeSection(studyMd, o.str());
 }
@@ -212,16 +234,20 @@ int main(int argc, char** argv)
     app.add_option("--rqmc-reps", rqmcReps, "RQMC reference: replicates (64)");
     app.add_option("--out-dir", outDir, "output folder for CSVs, slopes.md and plots (docs/study)");
     app.add_option("--study-md", studyMd, "summary markdown (docs/STUDY.md); empty: none");
-    std::vector<std::string> parts = {"analytic", "pairs", "spectra", "cost", "scenes"}, sceneNames;
+    std::vector<std::string> parts = {"analytic", "pairs", "spectra", "cost", "scenes", "scene-costs"}, sceneNames;
+    std::uint32_t costRounds = 3;
     std::string scenesDir = "scenes";
     std::uint32_t sceneWidth = 0, sceneMaxSpp = 0, sceneMinTrials = 0, sceneMaxTrials = 0, referenceSpp = 0;
     std::int64_t scenePaperSpp = -1, sceneRarePixels = -1;
     std::uint32_t sceneMaxRareRenders = 0;
     double sceneRelSe = 0.1, sceneExtraSeconds = -1;
-    app.add_option("--parts", parts, "parts to run: analytic pairs spectra cost scenes (default: all), or none (only reassemble "
+    app.add_option("--cost-rounds", costRounds, "scene-costs: rounds of every (sampler, spp) point (3)")
+        ->check(CLI::Range(3u, 1000u));
+    app.add_option("--parts", parts, "parts to run: analytic pairs spectra cost scenes scene-costs (default: all; scene-costs "
+                                     "times the measured scene points in one run per scene, --scene to choose), or none (only reassemble "
                                      "the scene section from its data files, STUDY.md, and redraw); STUDY.md is assembled from every part's section in the "
                                      "output folder")
-        ->check(CLI::IsMember({"analytic", "pairs", "spectra", "cost", "scenes", "none"}));
+        ->check(CLI::IsMember({"analytic", "pairs", "spectra", "cost", "scenes", "scene-costs", "none"}));
     app.add_option("--scenes-dir", scenesDir, "scene folder (scenes)");
     app.add_option("--scene", sceneNames, "scenes to study (default: cornell7d blue_spheres9d interior_deep)");
     app.add_option("--scene-width", sceneWidth, "scene render width (quick 32, full 64)")->check(CLI::Range(8u, 1024u));
@@ -675,6 +701,39 @@ int main(int argc, char** argv)
                 if (!quick || s.label == "BoseCMJ" || s.label == "Random" || s.label == "CMJ2D-pad" || s.label == "Sobol")
                     sceneSamplers.push_back(s);
             writeSection(outDir + "/scenes.md", runSceneStudy(so, sceneSamplers, device()));
+        }
+        if (wants("scene-costs")) {
+            // One cost run per scene: every point the accuracy part measured, timed in alternating
+            // rounds on this machine (scene_costs.hpp); the scene's earlier cost rows are replaced.
+            const std::string refPath = outDir + "/scene_references.csv", csvPath = outDir + "/scenes.csv",
+                              costPath = outDir + "/scene_costs.csv", buildPath = outDir + "/scene_cost_builds.csv";
+            if (!std::filesystem::exists(refPath) || !std::filesystem::exists(csvPath))
+                throw std::invalid_argument("--parts scene-costs times the points of measured scenes, and " + refPath +
+                                            " or " + csvPath + " is missing: run --parts scenes first");
+            const auto records = readSceneRecords(refPath);
+            const auto measurements = readSceneMeasurements(csvPath);
+            SceneCostOptions co;
+            co.scenesDir = scenesDir;
+            co.rounds = costRounds;
+            co.date = today();
+            co.machine = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " threads)";
+            std::vector<SceneCost> fresh;
+            CsvTable builds({"scene", "run_id", "pipelines_seconds"});
+            for (const auto& record : records) {
+                if (!sceneNames.empty() &&
+                    std::find(sceneNames.begin(), sceneNames.end(), record.name) == sceneNames.end())
+                    continue;
+                co.runId = record.name + "-" + timestamp();
+                double pipelineSeconds = 0;
+                const auto rows = measureSceneCosts(record, measurements, studySamplers(), co, device(), &pipelineSeconds);
+                fresh.insert(fresh.end(), rows.begin(), rows.end());
+                builds.add({record.name, co.runId, fmtG(pipelineSeconds, 4)});
+            }
+            if (fresh.empty()) throw std::invalid_argument("--scene: none of the given scenes has measurements in " + csvPath);
+            const auto kept = std::filesystem::exists(costPath) ? readSceneCosts(costPath) : std::vector<SceneCost>{};
+            writeSceneCosts(costPath, mergeSceneCosts(kept, fresh));
+            builds.write(buildPath);
+            writeSection(outDir + "/scenes.md", sceneSectionFromFiles(outDir, samplers));
         }
         // Reassembling: the scene section again from its data files (e.g. after merging shards by
         // hand, or after a change to the tables); the other parts' sections are kept as they are.

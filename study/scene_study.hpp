@@ -210,13 +210,24 @@ SceneRecord joinShardRecord(const SceneRecord& kept, const SceneRecord& fresh);
 std::vector<SceneMeasurement> mergeSamplerShard(const std::vector<SceneMeasurement>& kept,
                                                 const std::vector<SceneMeasurement>& fresh);
 
-/// The markdown section (STUDY.md's scene part) from the data alone: every table, goal and verdict
-/// from `measurements` of the scenes in `records` (other scenes' rows are ignored), for `samplers`.
-std::string sceneSection(const std::vector<SceneRecord>& records, const std::vector<SceneMeasurement>& measurements,
-                         const std::vector<SamplerSpec>& samplers);
+/// One point of a scene's cost run (scene_costs.hpp): the mean seconds of `rounds` renders of (scene, sampler, spp), ± s.e.
+struct SceneCost {
+    std::string scene, sampler;
+    std::uint32_t spp = 0;
+    double seconds = 0, se = 0;
+    std::uint32_t rounds = 0;
+    std::string runId, machine, device, date;
+};
 
-/// The section from outDir's scene_references.csv and scenes.csv (`oas-study --parts none`);
-/// empty when outDir has no scene data.
+/// The markdown section (STUDY.md's scene part) from the data alone: every table, goal and verdict
+/// from `measurements` of the scenes in `records` (other scenes' rows are ignored), for `samplers`;
+/// the equal-time, time-to-target and cost tables take their times from `costs` (each scene's one
+/// cost run) and say so where a scene has none.
+std::string sceneSection(const std::vector<SceneRecord>& records, const std::vector<SceneMeasurement>& measurements,
+                         const std::vector<SamplerSpec>& samplers, const std::vector<SceneCost>& costs = {});
+
+/// The section from outDir's scene_references.csv, scenes.csv and (when present) scene_costs.csv
+/// (`oas-study --parts none`); empty when outDir has no scene data.
 std::string sceneSectionFromFiles(const std::string& outDir, const std::vector<SamplerSpec>& samplers);
 
 /// Runs the scene study on the Vulkan device for the chosen scenes and merges them into outDir's

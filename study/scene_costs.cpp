@@ -1,0 +1,176 @@
+#include "scene_costs.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "render/tracer.hpp"
+#include "scene/scene.hpp"
+#include "stats.hpp"
+#include "tracer_cache.hpp"
+
+namespace oas::study {
+
+const std::vector<std::string>& sceneCostColumns()
+{
+    static const std::vector<std::string> columns = {"scene", "sampler", "spp",    "seconds", "se",
+                                                     "rounds", "run_id", "machine", "device",  "date"};
+    return columns;
+}
+
+void writeSceneCosts(const std::string& path, const std::vector<SceneCost>& costs)
+{
+    CsvTable csv(sceneCostColumns());
+    for (const auto& c : costs)
+        csv.add({c.scene, c.sampler, std::to_string(c.spp), fmtG(c.seconds), fmtG(c.se), std::to_string(c.rounds),
+                 c.runId, c.machine, c.device, c.date});
+    csv.write(path);
+}
+
+std::vector<SceneCost> readSceneCosts(const std::string& path)
+{
+    const CsvRows t = readCsv(path);
+    std::vector<size_t> at;
+    for (const auto& name : sceneCostColumns()) at.push_back(t.column(name, path));
+    auto number = [&](const std::vector<std::string>& row, size_t i, size_t k) {
+        const std::string& cell = row[at[k]];
+        char* end = nullptr;
+        const double v = std::strtod(cell.c_str(), &end);
+        if (cell.empty() || *end != '\0' || !std::isfinite(v) || v < 0)
+            throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ", column " + sceneCostColumns()[k] +
+                                     ": '" + cell + "' is not a finite number >= 0");
+        return v;
+    };
+    std::vector<SceneCost> out;
+    for (size_t i = 0; i < t.rows.size(); ++i) {
+        const auto& row = t.rows[i];
+        SceneCost c;
+        c.scene = row[at[0]];
+        c.sampler = row[at[1]];
+        c.spp = std::uint32_t(number(row, i, 2));
+        c.seconds = number(row, i, 3);
+        c.se = number(row, i, 4);
+        c.rounds = std::uint32_t(number(row, i, 5));
+        c.runId = row[at[6]];
+        c.machine = row[at[7]];
+        c.device = row[at[8]];
+        c.date = row[at[9]];
+        out.push_back(c);
+    }
+    return out;
+}
+
+std::vector<SceneCost> mergeSceneCosts(const std::vector<SceneCost>& kept, const std::vector<SceneCost>& fresh)
+{
+    std::set<std::string> freshScenes;
+    for (const auto& c : fresh) freshScenes.insert(c.scene);
+    std::vector<SceneCost> out;
+    for (const auto& c : kept)
+        if (!freshScenes.count(c.scene)) out.push_back(c);
+    out.insert(out.end(), fresh.begin(), fresh.end());
+    return out;
+}
+
+std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const std::string& scene)
+{
+    std::vector<SceneCost> out;
+    for (const auto& c : costs)
+        if (c.scene == scene) {
+            if (!out.empty() && c.runId != out.front().runId)
+                throw std::runtime_error("scene_costs.csv: scene " + scene + " has times from runs " +
+                                         out.front().runId + " and " + c.runId +
+                                         ": times from different runs are not comparable; rerun the scene's cost "
+                                         "part (oas-study --parts scene-costs --scene " + scene + ")");
+            out.push_back(c);
+        }
+    return out;
+}
+
+SceneCost summarizeTimes(const std::vector<double>& seconds)
+{
+    SceneCost c;
+    c.rounds = std::uint32_t(seconds.size());
+    if (seconds.empty()) return c;
+    double sum = 0;
+    for (double s : seconds) sum += s;
+    c.seconds = sum / double(seconds.size());
+    if (seconds.size() > 1) {
+        double ss = 0;
+        for (double s : seconds) ss += (s - c.seconds) * (s - c.seconds);
+        c.se = std::sqrt(ss / double(seconds.size() - 1) / double(seconds.size()));
+    }
+    return c;
+}
+
+std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::vector<SceneMeasurement>& measurements,
+                                         const std::vector<SamplerSpec>& samplers, const SceneCostOptions& o,
+                                         oas::vk::Context& context, double* pipelineSeconds)
+{
+    if (o.rounds < 3) throw std::invalid_argument("cost rounds: valid 3 or more (alternated rounds need repeats)");
+    std::string file;
+    for (const auto& c : studyScenes())
+        if (c.file == record.name + ".json") file = c.file;
+    if (file.empty()) throw std::invalid_argument("scene " + record.name + " is not a study scene");
+    auto scene = oas::scene::loadScene(o.scenesDir + "/" + file);
+    scene.width = record.width;
+    scene.height = record.height;
+    const auto plan = oas::render::planDimensions(scene);
+    const auto data = oas::render::flattenScene(scene);
+
+    struct Point {
+        std::string sampler;
+        std::uint32_t spp;
+        oas::Pattern pattern;
+        std::vector<double> times;
+    };
+    std::vector<Point> points;
+    for (const auto& s : samplers) {
+        std::set<std::uint32_t> counts;
+        for (const auto& m : measurements)
+            if (m.scene == record.name && m.sampler == s.label && !m.rareOnly) counts.insert(m.spp);
+        for (std::uint32_t spp : counts)
+            points.push_back({s.label, spp, oas::makePattern(patternRequest(s, spp, plan.sampleDims)), {}});
+    }
+    if (points.empty()) throw std::invalid_argument("scene " + record.name + " has no measured points to time");
+
+    TracerCache cache(context, data, plan);
+    std::vector<oas::Pattern> patterns;
+    for (const auto& p : points) patterns.push_back(p.pattern);
+    cache.prepare(patterns);
+    if (pipelineSeconds) *pipelineSeconds = cache.buildSeconds();
+    std::fprintf(stderr, "scene costs %s: %zu points x %u rounds, %zu pipelines built in %.1f s (excluded)\n",
+                 record.name.c_str(), points.size(), o.rounds, cache.size(), cache.buildSeconds());
+
+    using Clock = std::chrono::steady_clock;
+    for (std::uint32_t round = 0; round < o.rounds; ++round) {
+        const auto roundStart = Clock::now();
+        for (auto& p : points) {
+            auto& tracer = cache.get(p.pattern);
+            tracer.clear();
+            const auto start = Clock::now();
+            oas::render::forEachBatch(record.width, record.height, p.spp, oas::render::samplesPerBatch(plan),
+                                      0x5eed0000u + round, [&](const oas::render::SampleBatch& b) { tracer.trace(b); });
+            p.times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+        }
+        std::fprintf(stderr, "scene costs %s: round %u/%u in %.1f s\n", record.name.c_str(), round + 1, o.rounds,
+                     std::chrono::duration<double>(Clock::now() - roundStart).count());
+    }
+    std::vector<SceneCost> out;
+    for (const auto& p : points) {
+        SceneCost c = summarizeTimes(p.times);
+        c.scene = record.name;
+        c.sampler = p.sampler;
+        c.spp = p.spp;
+        c.runId = o.runId;
+        c.machine = o.machine;
+        c.device = context.deviceName();
+        c.date = o.date;
+        out.push_back(c);
+    }
+    return out;
+}
+
+}  // namespace oas::study

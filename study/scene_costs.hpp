@@ -1,0 +1,50 @@
+#pragma once
+// The scene part's time axis, measured apart from its accuracy. A render's error does not depend
+// on the machine (its images are bit-identical anywhere), so accuracy renders may be pooled over
+// runs, days and machines; its time does, and drifts even within a run (cornell7d's renders of the
+// same points ran 1.4-2.1x faster in a top-up run a day later than in the first run). So every
+// equal-time figure comes from one cost run per scene: every (sampler, spp) point of the scene
+// rendered in rounds, each round visiting all points in the same order (A B C ... A B C ...), so
+// that slow phases of a shared machine fall on every point alike, with pipeline builds done
+// before the first round and reported apart.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "experiment.hpp"
+#include "scene_study.hpp"
+#include "vk/context.hpp"
+
+namespace oas::study {
+
+// SceneCost (one point of a cost run) is declared in scene_study.hpp, whose section reads it.
+
+
+/// scene_costs.csv's columns: scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date.
+const std::vector<std::string>& sceneCostColumns();
+void writeSceneCosts(const std::string& path, const std::vector<SceneCost>& costs);
+/// Throws std::runtime_error naming the file, row and column for a missing column or a bad number.
+std::vector<SceneCost> readSceneCosts(const std::string& path);
+/// `kept` without the scenes that `fresh` has, then `fresh`.
+std::vector<SceneCost> mergeSceneCosts(const std::vector<SceneCost>& kept, const std::vector<SceneCost>& fresh);
+/// The scene's rows, all of one run. Throws std::runtime_error when they come from several runs
+/// (times from different runs are not comparable); empty when the scene has none.
+std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const std::string& scene);
+
+/// Mean and standard error (sd / √n) of the times; s.e. 0 for one time.
+SceneCost summarizeTimes(const std::vector<double>& seconds);
+
+struct SceneCostOptions {
+    std::string scenesDir = "scenes";
+    std::uint32_t rounds = 3;  ///< at least 3
+    std::string runId, machine, date;
+};
+
+/// Times every (sampler, spp) point that `measurements` hold for `record`'s scene, at the
+/// record's resolution, in options.rounds rounds. `pipelineSeconds` receives the build time of the
+/// scene's pipelines (excluded from the times). Progress goes to stderr.
+std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::vector<SceneMeasurement>& measurements,
+                                         const std::vector<SamplerSpec>& samplers, const SceneCostOptions& options,
+                                         oas::vk::Context& context, double* pipelineSeconds = nullptr);
+
+}  // namespace oas::study

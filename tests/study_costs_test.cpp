@@ -1,0 +1,199 @@
+// The scene study's time axis: one cost run per scene (study/scene_costs.hpp). Its file round-trips,
+// its mean ± s.e. is the textbook one, a scene whose rows mix runs is refused, and the equal-time
+// tables take their times from it alone (never from the accuracy renders' pooled times).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <filesystem>
+
+#include "experiment.hpp"
+#include "gpu_test_support.hpp"
+#include "scene_costs.hpp"
+#include "scene_study.hpp"
+
+using namespace oas::study;
+
+namespace {
+
+SamplerSpec specOf(const std::string& label)
+{
+    for (const auto& s : studySamplers())
+        if (s.label == label) return s;
+    throw std::invalid_argument("no sampler " + label);
+}
+
+SceneRecord cornellRecord()
+{
+    SceneRecord r;
+    r.name = "cornell7d";
+    r.width = 8;
+    r.height = 8;
+    r.dims = 7;
+    r.crop = {2, 2, 4, 4};
+    r.referenceSpp = 4096;
+    r.largestSpp = 256;
+    r.device = "test device";
+    r.machine = "test machine";
+    r.date = "2026-12-03";
+    r.modeLabel = "full mode";
+    r.minSpp = 16;
+    r.maxSpp = 256;
+    r.minTrials = 3;
+    r.maxTrials = 3;
+    return r;
+}
+
+/// Three renders per point at 16, 128 and 256 spp: Sobol's error ∝ 1/spp, Random's 3× that; the
+/// accuracy renders' own times are deliberately wrong (Random 100× slower), so a table that used
+/// them would say so.
+std::vector<SceneMeasurement> measurements()
+{
+    std::vector<SceneMeasurement> out;
+    for (const char* sampler : {"Sobol", "Random"})
+        for (std::uint32_t spp : {16u, 128u, 256u})
+            for (std::uint32_t t = 0; t < 3; ++t) {
+                SceneMeasurement m;
+                m.scene = "cornell7d";
+                m.sampler = sampler;
+                m.spp = spp;
+                m.trial = t;
+                const double scale = std::string(sampler) == "Sobol" ? 1.0 : 3.0;
+                m.relMse = m.relMseRaw = scale / spp * (1 + 0.01 * t);
+                m.relMseCrop = m.relMseCropRaw = m.relMse;
+                m.seconds = (std::string(sampler) == "Random" ? 100.0 : 1.0) * 1e-3 * spp;
+                out.push_back(m);
+            }
+    return out;
+}
+
+/// A cost run where both samplers take 1 ms per spp.
+std::vector<SceneCost> costs(const std::string& runId)
+{
+    std::vector<SceneCost> out;
+    for (const char* sampler : {"Sobol", "Random"})
+        for (std::uint32_t spp : {16u, 128u, 256u}) {
+            SceneCost c;
+            c.scene = "cornell7d";
+            c.sampler = sampler;
+            c.spp = spp;
+            c.seconds = 1e-3 * spp;
+            c.se = 1e-5;
+            c.rounds = 3;
+            c.runId = runId;
+            c.machine = "cost machine";
+            c.device = "cost device";
+            c.date = "2026-12-03 22:00 UTC";
+            out.push_back(c);
+        }
+    return out;
+}
+
+}  // namespace
+
+TEST(SceneCosts, MeanAndStandardErrorOverRounds)
+{
+    const SceneCost c = summarizeTimes({1.0, 2.0, 3.0, 6.0});
+    EXPECT_DOUBLE_EQ(c.seconds, 3.0);
+    // sample sd = sqrt(((-2)^2 + 1 + 0 + 9) / 3) = sqrt(14/3); s.e. = sd / 2.
+    EXPECT_NEAR(c.se, std::sqrt(14.0 / 3.0) / 2.0, 1e-12);
+    EXPECT_EQ(c.rounds, 4u);
+    EXPECT_EQ(summarizeTimes({2.5}).se, 0.0);
+}
+
+TEST(SceneCosts, FileRoundTripsAndMergeReplacesWholeScenes)
+{
+    const auto dir = std::filesystem::path(::testing::TempDir()) / "oas_scene_costs";
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "scene_costs.csv").string();
+    auto a = costs("run-a");
+    a[0].machine = "AMD EPYC, \"quoted\"";
+    writeSceneCosts(path, a);
+    const auto back = readSceneCosts(path);
+    ASSERT_EQ(back.size(), a.size());
+    EXPECT_EQ(back[0].machine, a[0].machine);
+    EXPECT_EQ(back[5].spp, 256u);
+    EXPECT_DOUBLE_EQ(back[5].seconds, a[5].seconds);
+    EXPECT_EQ(back[5].runId, "run-a");
+    // The header is exactly the documented columns.
+    std::ifstream in(path);
+    std::string header;
+    std::getline(in, header);
+    EXPECT_EQ(header, "scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date");
+
+    auto other = costs("run-b");
+    for (auto& c : other) c.scene = "interior_deep";
+    const auto merged = mergeSceneCosts(mergeSceneCosts(a, other), costs("run-c"));
+    ASSERT_EQ(merged.size(), 12u);
+    EXPECT_EQ(costsOfScene(merged, "cornell7d").front().runId, "run-c");
+    EXPECT_EQ(costsOfScene(merged, "interior_deep").front().runId, "run-b");
+    EXPECT_TRUE(costsOfScene(merged, "blue_spheres9d").empty());
+    std::filesystem::remove_all(dir);
+}
+
+TEST(SceneCosts, AScenesTimesMustComeFromOneRun)
+{
+    auto mixed = costs("run-a");
+    mixed[3].runId = "run-b";
+    try {
+        costsOfScene(mixed, "cornell7d");
+        FAIL() << "mixed run ids were accepted";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("run-a and run-b"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(sceneSection({cornellRecord()}, measurements(), {specOf("Sobol"), specOf("Random")}, mixed),
+                 std::runtime_error);
+}
+
+TEST(SceneCosts, EqualTimeTablesUseTheCostRunAndNothingElse)
+{
+    const std::vector<SamplerSpec> samplers = {specOf("Sobol"), specOf("Random")};
+    // Without a cost run the time tables say so instead of using the accuracy renders' times.
+    const std::string without = sceneSection({cornellRecord()}, measurements(), samplers);
+    EXPECT_NE(without.find("no cost run: `oas-study --parts scene-costs --scene cornell7d`"), std::string::npos);
+    EXPECT_EQ(without.find("*budgets*"), std::string::npos);
+    // With one: equal times are equal spp here, so Random is 3× Sobol at every budget (with the
+    // accuracy renders' times it would be about 300×), T₁ is Sobol's 128 spp = 128 ms and T₃ its
+    // largest count's 256 ms.
+    const std::string with = sceneSection({cornellRecord()}, measurements(), samplers, costs("run-a"));
+    EXPECT_NE(with.find("T₁ = 128 ms"), std::string::npos) << with;
+    EXPECT_NE(with.find("T₃ = 256 ms"), std::string::npos);
+    const auto row = with.find("| cornell7d | Random | ", with.find("### Error at equal time"));
+    ASSERT_NE(row, std::string::npos);
+    const std::string line = with.substr(row, with.find('\n', row) - row);
+    EXPECT_NE(line.find("| 3.0"), std::string::npos) << line;
+    // The short answer names where the times were measured.
+    EXPECT_NE(with.find("### The short answer"), std::string::npos);
+    EXPECT_NE(with.find("cost device, cost machine, 2026-12-03 22:00 UTC"), std::string::npos);
+}
+
+class SceneCostsGpu : public oas::test::GpuTest {};
+
+TEST_F(SceneCostsGpu, ACostRunTimesEveryMeasuredPointInRounds)
+{
+    const auto rows = measureSceneCosts(cornellRecord(), measurements(), {specOf("Sobol"), specOf("Random")},
+                                        [] {
+                                            SceneCostOptions o;
+                                            o.scenesDir = OAS_SCENES_DIR;
+                                            o.rounds = 3;
+                                            o.runId = "test-run";
+                                            return o;
+                                        }(),
+                                        context());
+    ASSERT_EQ(rows.size(), 6u);  // 2 samplers × 3 counts
+    for (const auto& c : rows) {
+        EXPECT_EQ(c.rounds, 3u);
+        EXPECT_EQ(c.runId, "test-run");
+        EXPECT_GT(c.seconds, 0.0);
+        EXPECT_GE(c.se, 0.0);
+        EXPECT_FALSE(c.device.empty());
+    }
+    EXPECT_THROW(measureSceneCosts(cornellRecord(), measurements(), {specOf("Sobol")},
+                                   [] {
+                                       SceneCostOptions o;
+                                       o.rounds = 2;
+                                       return o;
+                                   }(),
+                                   context()),
+                 std::invalid_argument);
+}
