@@ -9,6 +9,7 @@ the PNGs under OUT_DIR/scenes/), and spectra.png (plot_spectra.py). Each figure 
 its CSV exists. Needs python3-matplotlib.
 """
 import csv
+import math
 import os
 import sys
 from collections import defaultdict
@@ -80,29 +81,95 @@ def scene_figures(out):
         return
     rows = read(path)
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    # Times come from each scene's one cost run (scene_costs.csv), never from the accuracy renders.
+    costs = {}
+    cost_path = os.path.join(out, "scene_costs.csv")
+    if os.path.exists(cost_path):
+        for r in read(cost_path):
+            costs[(r["scene"], r["sampler"], float(r["spp"]))] = float(r["seconds"])
+
+    def highlighted(scene):
+        """At most five lines stand out per panel: Random, Sobol, the best padded 2D sampler and the
+        best OA (lowest mean relMSE near 128 spp) and BoseCMJ, the OA the chooser picks."""
+        near = {}
+        for r in rows:
+            if r["scene"] != scene:
+                continue
+            d = abs(math.log(float(r["spp"]) / 128))
+            if r["sampler"] not in near or d < near[r["sampler"]][0]:
+                near[r["sampler"]] = (d, float(r["rel_mse"]))
+        def best(pred):
+            c = [(v[1], k) for k, v in near.items() if pred(k)]
+            return min(c)[1] if c else None
+        is_oa = lambda k: k.startswith(("Bose", "Bush", "Addelman", "CMJND", "OA-"))
+        keep = ["Random", "Sobol", best(lambda k: k.endswith("-pad")), "BoseCMJ", best(is_oa)]
+        return [k for k in dict.fromkeys(keep) if k]
+
+    def curve(scene, name, xkey, ykey):
+        pts = []
+        for r in rows:
+            if r["scene"] != scene or r["sampler"] != name:
+                continue
+            x = float(r["spp"]) if xkey == "spp" else costs.get((scene, name, float(r["spp"])))
+            if x is not None:
+                pts.append((x, float(r[ykey]), float(r.get(ykey + "_se") or 0)))
+        return sorted(pts)
+
     for xkey, fname, xlabel in (("spp", "scene_error_vs_spp.png", "samples per pixel"),
-                                ("seconds", "scene_error_vs_time.png", "render time on lavapipe (s)")):
-        fig, axes = plt.subplots(2, len(scenes), figsize=(5.5 * len(scenes), 9), squeeze=False)
+                                ("seconds", "scene_error_vs_time.png", "render time, one cost run per scene (s)")):
+        panels = (("rel_mse", "full image"), ("rel_mse_crop", "crop")) + ((("ratio", "÷ Sobol"),) if xkey == "seconds" else ())
+        fig, axes = plt.subplots(len(panels), len(scenes), figsize=(5.5 * len(scenes), 4.5 * len(panels)), squeeze=False)
         for j, scene in enumerate(scenes):
-            for i, (ykey, what) in enumerate((("rel_mse", "full image"), ("rel_mse_crop", "crop"))):
+            keep = highlighted(scene)
+            names = list(dict.fromkeys(r["sampler"] for r in rows if r["scene"] == scene))
+            timed = xkey == "spp" or any(k[0] == scene for k in costs)
+            for i, (ykey, what) in enumerate(panels):
                 ax = axes[i][j]
-                by = defaultdict(list)
-                for r in rows:
-                    if r["scene"] == scene:
-                        # ykey + "_se": the standard error over the point's n renders (scene_curves.csv).
-                        by[r["sampler"]].append((float(r[xkey]), float(r[ykey]), float(r.get(ykey + "_se") or 0)))
-                for name, pts in by.items():
-                    pts.sort()
-                    color, ls, mk = STYLE.get(name, (None, "-", "o"))
-                    errorbar_loglog(ax, [p[0] for p in pts], [p[1] for p in pts], [p[2] for p in pts], 1e-12, ls=ls,
-                                    marker=mk, ms=3, color=color, lw=1, label=name)
-                ax.set_title(f"{scene}: relMSE, {what} (± 1 s.e.)", fontsize=9)
+                if ykey == "ratio":
+                    # Each highlighted sampler's full-image relMSE ÷ Sobol's at the same time (Sobol's
+                    # curve interpolated in log-log), with a ±1 s.e. band (relative s.e.s added in quadrature).
+                    sob = curve(scene, "Sobol", xkey, "rel_mse")
+                    for name in keep:
+                        pts = curve(scene, name, xkey, "rel_mse")
+                        xs, rs, lo, hi = [], [], [], []
+                        for x, y, se in pts:
+                            if len(sob) < 2 or not (sob[0][0] <= x <= sob[-1][0]):
+                                continue
+                            k = max(i for i in range(len(sob) - 1) if sob[i][0] <= x) if x < sob[-1][0] else len(sob) - 2
+                            (x0, y0, s0), (x1, y1, s1) = sob[k], sob[k + 1]
+                            t = math.log(x / x0) / math.log(x1 / x0) if x1 != x0 else 0
+                            ys = math.exp((1 - t) * math.log(y0) + t * math.log(y1))
+                            rse = math.sqrt((se / y) ** 2 + ((1 - t) * s0 / y0 + t * s1 / y1) ** 2)
+                            r = y / ys
+                            xs.append(x); rs.append(r); lo.append(r * (1 - rse)); hi.append(r * (1 + rse))
+                        color, ls, mk = STYLE.get(name, (None, "-", "o"))
+                        if xs:
+                            ax.plot(xs, rs, ls=ls, marker=mk, ms=3, color=color, lw=1.2, label=name)
+                            ax.fill_between(xs, lo, hi, color=color, alpha=0.15, lw=0)
+                    ax.axhline(1.0, color="black", lw=0.8)
+                    ax.set_xscale("log")
+                    ax.set_yscale("log")
+                    ax.set_ylabel("relMSE ÷ Sobol's at equal time", fontsize=8)
+                    ax.set_title(f"{scene}: error ÷ Sobol's (below 1: better), ± 1 s.e.", fontsize=9)
+                else:
+                    for name in sorted(names, key=lambda n: n in keep):  # highlighted lines on top
+                        pts = curve(scene, name, xkey, ykey)
+                        if not pts:
+                            continue
+                        color, ls, mk = STYLE.get(name, (None, "-", "o"))
+                        if name in keep:
+                            errorbar_loglog(ax, [p[0] for p in pts], [p[1] for p in pts], [p[2] for p in pts], 1e-12,
+                                            ls=ls, marker=mk, ms=3, color=color, lw=1.4, label=name)
+                        else:
+                            ax.loglog([p[0] for p in pts], [p[1] for p in pts], color="0.7", lw=0.6, alpha=0.6)
+                    ax.set_ylabel("relative MSE", fontsize=8)
+                    ax.set_title(f"{scene}: relMSE, {what} (± 1 s.e.; others grey)" if timed
+                                 else f"{scene}: no cost run (scene_costs.csv)", fontsize=9)
                 ax.set_xlabel(xlabel, fontsize=8)
-                ax.set_ylabel("relative MSE", fontsize=8)
                 ax.tick_params(labelsize=7)
                 ax.grid(True, which="both", alpha=0.2)
-                if i == 0 and j == 0:
-                    ax.legend(fontsize=6, ncol=2)
+                if i == 0 or ykey == "ratio":
+                    ax.legend(fontsize=6)
         fig.tight_layout()
         fig.savefig(os.path.join(out, fname), dpi=90)
         plt.close(fig)
