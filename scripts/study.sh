@@ -12,6 +12,9 @@
 # samplers against its kept reference (sampler shards, for a scene longer than one run), or
 # --parts scenes --scene cornell7d --scene-top-up to add renders to a scene's kept measurements
 # where a point is still above the target (same settings; a larger budget or cap).
+# The time axis is measured apart (--parts scene-costs, part of the default run): one cost run per
+# scene times every measured point in 3+ alternating rounds on this machine -> docs/study/scene_costs.csv;
+# the equal-time tables use only those times (rerun it alone on another machine or a GPU).
 # cornell7d's four light-corner pixels get their share of the error from many CPU renders of just
 # those pixels (--scene-rare-pixels, --scene-max-rare-renders).
 # Plots need Debian's python3-matplotlib, installed here when missing.

@@ -76,6 +76,18 @@ void writeSection(const std::string& path, const std::string& text)
     std::filesystem::rename(tmp, path);
 }
 
+/// `section` with "- Machine: <CPU> (<threads> threads), <date>" as its first list item (after the
+/// heading line), so that every section names where and when it was measured.
+std::string stamped(const std::string& section)
+{
+    const size_t eol = section.find('\n');
+    if (eol == std::string::npos) return section;
+    const size_t body = section.find_first_not_of('\n', eol);
+    return section.substr(0, body) + "- Machine: " + cpuModel() + " (" +
+           std::to_string(std::thread::hardware_concurrency()) + " threads), " + today() + "\n" +
+           section.substr(body);
+}
+
 /// One more '#' on every heading line: a part's document becomes a section of STUDY.md.
 std::string demoteHeadings(const std::string& text)
 {
@@ -640,14 +652,14 @@ int main(int argc, char** argv)
             po.outDir = outDir;
             po.command = command;
             po.quick = quick;
-            writeSection(outDir + "/pairs.md", runPairStudy(po));
+            writeSection(outDir + "/pairs.md", stamped(runPairStudy(po)));
         }
         if (wants("spectra")) {
             runProjections();
             const auto ts = std::chrono::steady_clock::now();
             writeSpectra(outDir, quick ? 16 : 64, quick ? 16 : 20, threads);
-            writeSection(outDir + "/spectra.md", spectraSection(command, quick,
-                         std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count()));
+            writeSection(outDir + "/spectra.md", stamped(spectraSection(command, quick,
+                         std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count())));
         }
         if (wants("cost")) {
             CostOptions co;
@@ -655,7 +667,7 @@ int main(int argc, char** argv)
             co.command = command;
             co.quick = quick;
             if (quick) co.pixels = 4096, co.repeats = 1;
-            writeSection(outDir + "/cost.md", runCostStudy(co, samplers, device()));
+            writeSection(outDir + "/cost.md", stamped(runCostStudy(co, samplers, device())));
         }
         if (wants("scenes")) {
             SceneStudyOptions so;

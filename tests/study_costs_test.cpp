@@ -32,26 +32,26 @@ SceneRecord cornellRecord()
     r.dims = 7;
     r.crop = {2, 2, 4, 4};
     r.referenceSpp = 4096;
-    r.largestSpp = 256;
+    r.largestSpp = 4096;
     r.device = "test device";
     r.machine = "test machine";
     r.date = "2026-12-03";
     r.modeLabel = "full mode";
     r.minSpp = 16;
-    r.maxSpp = 256;
+    r.maxSpp = 4096;
     r.minTrials = 3;
     r.maxTrials = 3;
     return r;
 }
 
-/// Three renders per point at 16, 128 and 256 spp: Sobol's error ∝ 1/spp, Random's 3× that; the
+/// Three renders per point at 16, 128 and 4096 spp: Sobol's error ∝ 1/spp, Random's 3× that; the
 /// accuracy renders' own times are deliberately wrong (Random 100× slower), so a table that used
 /// them would say so.
 std::vector<SceneMeasurement> measurements()
 {
     std::vector<SceneMeasurement> out;
     for (const char* sampler : {"Sobol", "Random"})
-        for (std::uint32_t spp : {16u, 128u, 256u})
+        for (std::uint32_t spp : {16u, 128u, 4096u})
             for (std::uint32_t t = 0; t < 3; ++t) {
                 SceneMeasurement m;
                 m.scene = "cornell7d";
@@ -72,7 +72,7 @@ std::vector<SceneCost> costs(const std::string& runId)
 {
     std::vector<SceneCost> out;
     for (const char* sampler : {"Sobol", "Random"})
-        for (std::uint32_t spp : {16u, 128u, 256u}) {
+        for (std::uint32_t spp : {16u, 128u, 4096u}) {
             SceneCost c;
             c.scene = "cornell7d";
             c.sampler = sampler;
@@ -112,7 +112,7 @@ TEST(SceneCosts, FileRoundTripsAndMergeReplacesWholeScenes)
     const auto back = readSceneCosts(path);
     ASSERT_EQ(back.size(), a.size());
     EXPECT_EQ(back[0].machine, a[0].machine);
-    EXPECT_EQ(back[5].spp, 256u);
+    EXPECT_EQ(back[5].spp, 4096u);
     EXPECT_DOUBLE_EQ(back[5].seconds, a[5].seconds);
     EXPECT_EQ(back[5].runId, "run-a");
     // The header is exactly the documented columns.
@@ -153,11 +153,11 @@ TEST(SceneCosts, EqualTimeTablesUseTheCostRunAndNothingElse)
     EXPECT_NE(without.find("no cost run: `oas-study --parts scene-costs --scene cornell7d`"), std::string::npos);
     EXPECT_EQ(without.find("*budgets*"), std::string::npos);
     // With one: equal times are equal spp here, so Random is 3× Sobol at every budget (with the
-    // accuracy renders' times it would be about 300×), T₁ is Sobol's 128 spp = 128 ms and T₃ its
-    // largest count's 256 ms.
+    // accuracy renders' times it would be about 300×), T₁ is Sobol's 128 spp = 128 ms and T₃ the
+    // longest every sampler with a count >= 3969 reached, 4096 ms.
     const std::string with = sceneSection({cornellRecord()}, measurements(), samplers, costs("run-a"));
     EXPECT_NE(with.find("T₁ = 128 ms"), std::string::npos) << with;
-    EXPECT_NE(with.find("T₃ = 256 ms"), std::string::npos);
+    EXPECT_NE(with.find("T₃ = 4096 ms"), std::string::npos);
     const auto row = with.find("| cornell7d | Random | ", with.find("### Error at equal time"));
     ASSERT_NE(row, std::string::npos);
     const std::string line = with.substr(row, with.find('\n', row) - row);
