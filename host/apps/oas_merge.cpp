@@ -37,11 +37,6 @@ int main(int argc, char** argv)
     }
     try {
         namespace fs = std::filesystem;
-        std::string ext = fs::path(output).extension().string();
-        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-        if (ext != ".exr" || fs::path(output).stem().empty() || fs::is_directory(output))
-            throw oas::InvalidArgument("--output " + output +
-                                       ": valid a file name ending in .exr (its PNG preview is written beside it)");
         std::vector<oas::render::RenderFile> shards;
         for (const std::string& input : inputs) {
             std::error_code ec;  // an output that does not exist yet is not an input
@@ -60,8 +55,7 @@ int main(int argc, char** argv)
                                            oas::render::formatRanges({want}));
         }
         merged.attributes["oas.writer"] = "oas-merge";
-        if (const auto parent = fs::path(output).parent_path(); !parent.empty()) fs::create_directories(parent);
-        const std::string png = fs::path(output).replace_extension(".png").string();
+        const std::string png = oas::render::prepareRenderOutput(output, "--output");
         oas::render::writeRenderFile(output, merged.sums, merged.ranges, merged.attributes);
         oas::image::writePngPreview(png, merged.sums.image());
         std::cout << "merged " << shards.size() << " shard" << (shards.size() == 1 ? "" : "s") << ": samples "

@@ -68,14 +68,6 @@ std::string outputStem(const std::string& sceneName, const std::filesystem::path
     return "render";
 }
 
-/// Whether `path` ends in ".exr" (any case).
-bool hasExrExtension(const std::string& path)
-{
-    std::string ext = std::filesystem::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".exr";
-}
-
 /// Progress on a terminal as one rewritten line; otherwise plain lines at every 10%.
 class Progress {
 public:
@@ -152,17 +144,8 @@ int main(int argc, char** argv)
         const oas::render::SampleRange range = samples.empty()
                                                    ? oas::render::SampleRange{0, scene.sampler.spp}
                                                    : oas::render::parseSampleRange(samples, scene.sampler.spp, "--samples");
-        // The EXR and its PNG preview differ only in the extension, so the EXR's must be .exr:
-        // "-o x.png" would otherwise write the preview over the image.
         if (output.empty()) output = "out/" + outputStem(scene.name, scene.path) + ".exr";
-        if (!hasExrExtension(output) || std::filesystem::path(output).stem().empty())
-            throw oas::InvalidArgument("--output " + output + ": the output is an OpenEXR image with its PNG preview "
-                                       "beside it: valid a file name ending in .exr (e.g. out/render.exr)");
-        if (std::filesystem::is_directory(output))
-            throw oas::InvalidArgument("--output " + output + " is a directory: valid a file name ending in .exr");
-        if (const auto parent = std::filesystem::path(output).parent_path(); !parent.empty())
-            std::filesystem::create_directories(parent);
-        const std::string png = std::filesystem::path(output).replace_extension(".png").string();
+        const std::string png = oas::render::prepareRenderOutput(output, "--output");
 
         const std::uint64_t imageBytes = std::uint64_t(scene.width) * scene.height * oas::render::kSumWords * 4;
         const auto outOfMemory = [&](const char* what) {

@@ -4,6 +4,29 @@
 #include <stdexcept>
 
 namespace oas::render {
+namespace {
+
+/// A pixel's sums from its words and back: channel c's lo, mid, hi are words 3c, 3c + 1, 3c + 2
+/// (PT_SUM_WORDS' layout; pt_render.comp reads and writes the same words).
+pt::PtSum loadSum(const std::uint32_t* p)
+{
+    pt::PtSum s;
+    s.lo = {p[0], p[3], p[6]};
+    s.mid = {p[1], p[4], p[7]};
+    s.hi = {p[2], p[5], p[8]};
+    return s;
+}
+
+void storeSum(std::uint32_t* p, const pt::PtSum& s)
+{
+    for (int c = 0; c < 3; ++c) {
+        p[3 * c] = s.lo[c];
+        p[3 * c + 1] = s.mid[c];
+        p[3 * c + 2] = s.hi[c];
+    }
+}
+
+}  // namespace
 
 Accumulation::Accumulation(std::uint32_t w, std::uint32_t h) : width(w), height(h), words(std::size_t(w) * h * kSumWords, 0u)
 {
@@ -12,22 +35,12 @@ Accumulation::Accumulation(std::uint32_t w, std::uint32_t h) : width(w), height(
 void Accumulation::addToPixel(std::size_t i, glm::uvec3 lo, glm::uvec3 mid, glm::uvec3 hi, std::uint32_t samples,
                               std::uint32_t rejected)
 {
-    std::uint32_t* p = pixel(i);
-    pt::PtSum sum, before;
+    pt::PtSum sum;
     sum.lo = lo;
     sum.mid = mid;
     sum.hi = hi;
-    for (int c = 0; c < 3; ++c) {
-        before.lo[c] = p[3 * c];
-        before.mid[c] = p[3 * c + 1];
-        before.hi[c] = p[3 * c + 2];
-    }
-    const pt::PtSum after = pt::pt_sum_add(before, sum);
-    for (int c = 0; c < 3; ++c) {
-        p[3 * c] = after.lo[c];
-        p[3 * c + 1] = after.mid[c];
-        p[3 * c + 2] = after.hi[c];
-    }
+    std::uint32_t* p = pixel(i);
+    storeSum(p, pt::pt_sum_add(loadSum(p), sum));
     p[pt::PT_SUM_COUNT_WORD] += samples;
     p[pt::PT_SUM_REJECTED_WORD] += rejected;
 }
@@ -44,8 +57,8 @@ void Accumulation::add(const Accumulation& other)
                                       " would hold more than 2^32 - 1 samples");
     for (std::size_t i = 0; i < pixelCount(); ++i) {
         const std::uint32_t* q = other.pixel(i);
-        addToPixel(i, {q[0], q[3], q[6]}, {q[1], q[4], q[7]}, {q[2], q[5], q[8]}, q[pt::PT_SUM_COUNT_WORD],
-                   q[pt::PT_SUM_REJECTED_WORD]);
+        const pt::PtSum s = loadSum(q);
+        addToPixel(i, s.lo, s.mid, s.hi, q[pt::PT_SUM_COUNT_WORD], q[pt::PT_SUM_REJECTED_WORD]);
     }
 }
 

@@ -1,9 +1,11 @@
 #include "render/render_file.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <set>
 #include <stdexcept>
 
@@ -135,6 +137,20 @@ SampleRange parseSampleRange(const std::string& text, std::uint32_t spp, const s
                               std::to_string(spp) + " (the frame's samples per pixel), e.g. 0:" +
                               std::to_string((spp + 1) / 2));
     return r;
+}
+
+std::string prepareRenderOutput(const std::string& output, const std::string& option)
+{
+    namespace fs = std::filesystem;
+    std::string ext = fs::path(output).extension().string();
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".exr" || fs::path(output).stem().empty())
+        throw InvalidArgument(option + " " + output + ": the output is an OpenEXR image with its PNG preview "
+                              "beside it: valid a file name ending in .exr (e.g. out/render.exr)");
+    if (fs::is_directory(output))
+        throw InvalidArgument(option + " " + output + " is a directory: valid a file name ending in .exr");
+    if (const auto parent = fs::path(output).parent_path(); !parent.empty()) fs::create_directories(parent);
+    return fs::path(output).replace_extension(".png").string();
 }
 
 std::string formatRanges(const std::vector<SampleRange>& ranges)

@@ -30,6 +30,13 @@ SampleRange parseSampleRange(const std::string& text, std::uint32_t spp, const s
 /// "0:16" or, for several ranges, "0:4,9:16".
 std::string formatRanges(const std::vector<SampleRange>& ranges);
 
+/// Checks `output` as a render file's path for the command-line option `option` and returns its
+/// PNG preview's path (the same name, .png). The two differ only in the extension, so the output
+/// must end in .exr (any case): "-o x.png" would otherwise write the preview over the image. Throws
+/// oas::InvalidArgument naming the option and the value for another name or a directory; creates
+/// the parent directories otherwise.
+std::string prepareRenderOutput(const std::string& output, const std::string& option);
+
 /// Version tag of the format (header field oas.format): exact sums as 96-bit fixed point with 32
 /// fractional bits (shaders/pt/pt_accumulate.glsl) in channels kSumChannels.
 inline constexpr const char* kRenderFormat = "oas-accumulation-1";

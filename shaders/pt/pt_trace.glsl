@@ -412,10 +412,6 @@ float pt_mis(float a, float b)
     return (r * r) / (1.0f + r * r);
 }
 
-/// Whether a path's radiance is finite. The entry points count the samples for which it is not
-/// (and leave them out of the sums) instead of letting one poison a pixel; tests expect none.
-bool pt_finite(vec3 l) { return !(any(isnan(l)) || any(isinf(l))); }
-
 /// Solid-angle pdf of light-sampling the point p (normal nl, area) from x, selection included.
 float pt_light_pdf(vec3 x, vec3 p, vec3 nl, float area, float lightCount)
 {
