@@ -33,31 +33,28 @@ void writeSceneCosts(const std::string& path, const std::vector<SceneCost>& cost
 std::vector<SceneCost> readSceneCosts(const std::string& path)
 {
     const CsvRows t = readCsv(path);
-    std::vector<size_t> at;
-    for (const auto& name : sceneCostColumns()) at.push_back(t.column(name, path));
-    auto number = [&](const std::vector<std::string>& row, size_t i, size_t k) {
-        const std::string& cell = row[at[k]];
-        char* end = nullptr;
-        const double v = std::strtod(cell.c_str(), &end);
-        if (cell.empty() || *end != '\0' || !std::isfinite(v) || v < 0)
-            throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ", column " + sceneCostColumns()[k] +
-                                     ": '" + cell + "' is not a finite number >= 0");
-        return v;
-    };
     std::vector<SceneCost> out;
     for (size_t i = 0; i < t.rows.size(); ++i) {
         const auto& row = t.rows[i];
+        auto text = [&](const char* name) { return row[t.column(name, path)]; };
+        auto seconds = [&](const char* name) {
+            const double v = csvNumber(t, row, name, path, i);
+            if (!std::isfinite(v) || v < 0)
+                throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ", column \"" + name +
+                                         "\": valid a finite number of seconds >= 0");
+            return v;
+        };
         SceneCost c;
-        c.scene = row[at[0]];
-        c.sampler = row[at[1]];
-        c.spp = std::uint32_t(number(row, i, 2));
-        c.seconds = number(row, i, 3);
-        c.se = number(row, i, 4);
-        c.rounds = std::uint32_t(number(row, i, 5));
-        c.runId = row[at[6]];
-        c.machine = row[at[7]];
-        c.device = row[at[8]];
-        c.date = row[at[9]];
+        c.scene = text("scene");
+        c.sampler = text("sampler");
+        c.spp = csvCount(t, row, "spp", path, i);
+        c.seconds = seconds("seconds");
+        c.se = seconds("se");
+        c.rounds = csvCount(t, row, "rounds", path, i);
+        c.runId = text("run_id");
+        c.machine = text("machine");
+        c.device = text("device");
+        c.date = text("date");
         out.push_back(c);
     }
     return out;

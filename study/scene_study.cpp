@@ -311,30 +311,6 @@ bool hasColumn(const CsvRows& t, const std::string& name)
     return std::find(t.header.begin(), t.header.end(), name) != t.header.end();
 }
 
-/// Cell `name` of `row` as a number: the whole cell must parse (strtod), else the error names the
-/// file, the data row and the column.
-double number(const CsvRows& t, const std::vector<std::string>& row, const std::string& name, const std::string& file,
-              size_t rowIndex)
-{
-    const std::string& cell = row[t.column(name, file)];
-    char* end = nullptr;
-    const double v = std::strtod(cell.c_str(), &end);
-    if (cell.empty() || end != cell.c_str() + cell.size())
-        throw std::runtime_error(file + ": row " + std::to_string(rowIndex + 1) + ", column \"" + name + "\": \"" + cell +
-                                 "\" is not a number");
-    return v;
-}
-
-std::uint32_t count(const CsvRows& t, const std::vector<std::string>& row, const std::string& name,
-                    const std::string& file, size_t rowIndex)
-{
-    const double v = number(t, row, name, file, rowIndex);
-    if (!(v >= 0 && v <= 4294967295.0) || v != std::floor(v))
-        throw std::runtime_error(file + ": row " + std::to_string(rowIndex + 1) + ", column \"" + name + "\": " +
-                                 fmtG(v) + " is not a count in [0, 2^32 - 1]");
-    return std::uint32_t(v);
-}
-
 /// Position of a scene in studyScenes() (unknown names after them).
 size_t sceneRank(const std::string& name)
 {
@@ -434,8 +410,8 @@ std::vector<SceneRecord> readSceneRecords(const std::string& path)
     for (size_t i = 0; i < t.rows.size(); ++i) {
         const auto& row = t.rows[i];
         auto text = [&](const char* name) { return row[t.column(name, path)]; };
-        auto num = [&](const char* name) { return number(t, row, name, path, i); };
-        auto cnt = [&](const char* name) { return count(t, row, name, path, i); };
+        auto num = [&](const char* name) { return csvNumber(t, row, name, path, i); };
+        auto cnt = [&](const char* name) { return csvCount(t, row, name, path, i); };
         SceneRecord r;
         r.name = text("scene");
         r.width = cnt("width");
@@ -495,13 +471,13 @@ std::vector<SceneMeasurement> readSceneMeasurements(const std::string& path)
     std::vector<SceneMeasurement> out;
     for (size_t i = 0; i < t.rows.size(); ++i) {
         const auto& row = t.rows[i];
-        auto num = [&](const char* name) { return number(t, row, name, path, i); };
+        auto num = [&](const char* name) { return csvNumber(t, row, name, path, i); };
         SceneMeasurement m;
         m.scene = row[t.column("scene", path)];
         m.sampler = row[t.column("sampler", path)];
         m.pattern = row[t.column("pattern", path)];
-        m.spp = count(t, row, "spp", path, i);
-        m.trial = count(t, row, "trial", path, i);
+        m.spp = csvCount(t, row, "spp", path, i);
+        m.trial = csvCount(t, row, "trial", path, i);
         m.seconds = num("seconds");
         m.relMse = num("rel_mse");
         m.relMseCrop = num("rel_mse_crop");
@@ -510,7 +486,7 @@ std::vector<SceneMeasurement> readSceneMeasurements(const std::string& path)
         m.relMseWorst = num("rel_mse_worst");
         if (hasColumn(t, "rel_mse_rare")) m.relMseRare = num("rel_mse_rare");
         if (hasColumn(t, "rare_only")) {
-            const std::uint32_t flag = count(t, row, "rare_only", path, i);
+            const std::uint32_t flag = csvCount(t, row, "rare_only", path, i);
             if (flag > 1)
                 throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ", column \"rare_only\": " +
                                          std::to_string(flag) + " is not 0 or 1");

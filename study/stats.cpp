@@ -484,4 +484,28 @@ std::string fmtRatio(const Estimate& r, int decimals)
     return fmtF(r.mean, decimals) + (std::isfinite(r.se) ? " ± " + fmtF(r.se, decimals) : "");
 }
 
+/// Cell `name` of `row` as a number: the whole cell must parse (strtod), else the error names the
+/// file, the data row and the column.
+double csvNumber(const CsvRows& t, const std::vector<std::string>& row, const std::string& name, const std::string& file,
+              size_t rowIndex)
+{
+    const std::string& cell = row[t.column(name, file)];
+    char* end = nullptr;
+    const double v = std::strtod(cell.c_str(), &end);
+    if (cell.empty() || end != cell.c_str() + cell.size())
+        throw std::runtime_error(file + ": row " + std::to_string(rowIndex + 1) + ", column \"" + name + "\": \"" + cell +
+                                 "\" is not a number");
+    return v;
+}
+
+std::uint32_t csvCount(const CsvRows& t, const std::vector<std::string>& row, const std::string& name,
+                    const std::string& file, size_t rowIndex)
+{
+    const double v = csvNumber(t, row, name, file, rowIndex);
+    if (!(v >= 0 && v <= 4294967295.0) || v != std::floor(v))
+        throw std::runtime_error(file + ": row " + std::to_string(rowIndex + 1) + ", column \"" + name + "\": " +
+                                 fmtG(v) + " is not a count in [0, 2^32 - 1]");
+    return std::uint32_t(v);
+}
+
 }  // namespace oas::study

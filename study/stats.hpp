@@ -176,6 +176,14 @@ CsvRows parseCsv(const std::string& text, const std::string& file);
 /// parseCsv of a file; throws std::runtime_error if it cannot be read.
 CsvRows readCsv(const std::string& path);
 
+/// Cell `name` of data row `rowIndex` of `t` (read from `file`) as a number: the whole cell must
+/// parse (strtod), else std::runtime_error names the file, the row and the column.
+double csvNumber(const CsvRows& t, const std::vector<std::string>& row, const std::string& name,
+                 const std::string& file, size_t rowIndex);
+/// csvNumber, which must be a whole number in [0, 2^32 - 1].
+std::uint32_t csvCount(const CsvRows& t, const std::vector<std::string>& row, const std::string& name,
+                       const std::string& file, size_t rowIndex);
+
 /// "%.*g" formatting (round-trippable with digits = 17).
 std::string fmtG(double v, int digits = 6);
 /// Fixed decimals.

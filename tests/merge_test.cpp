@@ -323,7 +323,9 @@ void expectShardsMergeExactly(const std::string& device)
     ASSERT_EQ(run(render + " -o " + whole, &log), 0) << log;
     std::vector<std::string> shards;
     for (const char* range : {"13:16", "0:5", "6:13", "5:6"}) {
-        shards.push_back((dir / ("shard_" + std::string(range).replace(std::string(range).find(':'), 1, "_") + ".exr")).string());
+        std::string name = std::string("shard_") + range + ".exr";
+        name[name.find(':')] = '_';
+        shards.push_back((dir / name).string());
         ASSERT_EQ(run(render + " --samples " + range + " -o " + shards.back(), &log), 0) << log;
     }
     const std::string merged = (dir / "merged.exr").string();

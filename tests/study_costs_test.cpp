@@ -121,6 +121,15 @@ TEST(SceneCosts, FileRoundTripsAndMergeReplacesWholeScenes)
     std::getline(in, header);
     EXPECT_EQ(header, "scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date");
 
+    // A bad cell names the file, row and column.
+    std::ofstream(path) << header << "\ncornell7d,Sobol,16,-1,0,3,r,m,d,today\n";
+    try {
+        readSceneCosts(path);
+        FAIL() << "a negative time was read";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("row 1, column \"seconds\""), std::string::npos) << e.what();
+    }
+
     auto other = costs("run-b");
     for (auto& c : other) c.scene = "interior_deep";
     const auto merged = mergeSceneCosts(mergeSceneCosts(a, other), costs("run-c"));
