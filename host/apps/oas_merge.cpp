@@ -56,8 +56,8 @@ int main(int argc, char** argv)
         }
         merged.attributes["oas.writer"] = "oas-merge";
         const std::string png = oas::render::prepareRenderOutput(output, "--output");
-        oas::render::writeRenderFile(output, merged.sums, merged.ranges, merged.attributes);
-        oas::image::writePngPreview(png, merged.sums.image());
+        oas::image::writePngPreview(png,
+                                    oas::render::writeRenderFile(output, merged.sums, merged.ranges, merged.attributes));
         std::cout << "merged " << shards.size() << " shard" << (shards.size() == 1 ? "" : "s") << ": samples "
                   << oas::render::formatRanges(merged.ranges) << " of " << merged.attributes["oas.sppRequested"]
                   << " (" << merged.attributes["oas.spp"] << " per pixel), rejected samples "

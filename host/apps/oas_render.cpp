@@ -217,8 +217,7 @@ int main(int argc, char** argv)
         attributes["oas.writer"] = "oas-render";
         oas::image::Image image;
         try {
-            oas::render::writeRenderFile(output, sums, {finished}, attributes);
-            image = sums.image();
+            image = oas::render::writeRenderFile(output, sums, {finished}, attributes);
         } catch (const std::bad_alloc&) {
             throw outOfMemory("the output image");
         }

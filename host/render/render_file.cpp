@@ -189,7 +189,7 @@ std::map<std::string, std::string> renderAttributes(const scene::Scene& scene, c
             {"oas.scene", scene.path.string()}};
 }
 
-void writeRenderFile(const std::string& path, const Accumulation& sums, const std::vector<SampleRange>& ranges,
+image::Image writeRenderFile(const std::string& path, const Accumulation& sums, const std::vector<SampleRange>& ranges,
                      std::map<std::string, std::string> attributes)
 {
     const std::uint64_t held = totalSamples(ranges);
@@ -207,7 +207,9 @@ void writeRenderFile(const std::string& path, const Accumulation& sums, const st
     attributes["oas.samples"] = formatRanges(ranges);
     attributes["oas.spp"] = std::to_string(held);
     attributes["oas.rejectedSamples"] = std::to_string(sums.rejectedSamples());
-    image::writeExr(path, sums.image(), attributes, channels);
+    image::Image mean = sums.image();
+    image::writeExr(path, mean, attributes, channels);
+    return mean;
 }
 
 RenderFile readRenderFile(const std::string& path)

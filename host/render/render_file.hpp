@@ -64,8 +64,9 @@ struct RenderFile {
 
 /// Writes a render file (atomically, via image::writeExr): the mean image, the sums, and
 /// `attributes` plus oas.samples (formatRanges), oas.spp (samples held per pixel) and
-/// oas.rejectedSamples. Every pixel must hold exactly the ranges' samples.
-void writeRenderFile(const std::string& path, const Accumulation& sums, const std::vector<SampleRange>& ranges,
+/// oas.rejectedSamples. Every pixel must hold exactly the ranges' samples. Returns the mean image
+/// it wrote (sums.image(), e.g. for the PNG preview).
+image::Image writeRenderFile(const std::string& path, const Accumulation& sums, const std::vector<SampleRange>& ranges,
                      std::map<std::string, std::string> attributes);
 
 /// Reads and checks a render file. Throws oas::InvalidArgument naming `path` and the field at
