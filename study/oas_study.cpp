@@ -730,7 +730,16 @@ int main(int argc, char** argv)
             co.date = today();
             co.machine = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " threads)";
             std::vector<SceneCost> fresh;
+            // Pipeline builds per cost run; the rows of scenes not rerun now are kept, as in scene_costs.csv.
             CsvTable builds({"scene", "run_id", "pipelines_seconds"});
+            if (std::filesystem::exists(buildPath)) {
+                const CsvRows old = readCsv(buildPath);
+                const size_t sceneColumn = old.column("scene", buildPath);
+                for (const auto& row : old.rows)
+                    if (!sceneNames.empty() &&
+                        std::find(sceneNames.begin(), sceneNames.end(), row[sceneColumn]) == sceneNames.end())
+                        builds.add(row);
+            }
             for (const auto& record : records) {
                 if (!sceneNames.empty() &&
                     std::find(sceneNames.begin(), sceneNames.end(), record.name) == sceneNames.end())
