@@ -66,6 +66,7 @@ dashboard) on this machine and stops it at the end.
 """
 
 import argparse
+import contextlib
 import json
 import logging
 import os
@@ -96,15 +97,18 @@ def _materialize(files, root):
             f.write(data)
 
 
-def _run_in_sandbox(renderer, scene_rel, files, args, env_extra, want_output):
-    """Recreates the scene's files in a fresh directory, runs the renderer there (the scene given
-    by its relative path, so every shard sees the same one) and removes the directory. Returns
-    (exit status, stdout, stderr, output bytes or None, seconds, worker address)."""
+def _run_in_sandbox(program, args, files, env_extra, collect):
+    """Recreates `files` ({relative path: bytes}) in a fresh directory, runs `program args` there
+    (relative paths in args resolve inside it) and removes the directory. `collect`: None, or the
+    relative path of the output to return: a file's bytes, or a directory as gzipped tar bytes.
+    Returns (exit status, stdout, stderr, output bytes or None, seconds, worker address)."""
     import ctypes
+    import io
     import os
     import shutil
     import signal
     import subprocess
+    import tarfile
     import tempfile
     import time
 
@@ -113,11 +117,11 @@ def _run_in_sandbox(renderer, scene_rel, files, args, env_extra, want_output):
 
         worker = get_worker()
         parent, address = worker.local_directory, worker.address
-    except ValueError:  # not in a worker (cannot happen through the driver)
+    except ValueError:  # not in a worker (cannot happen through the drivers)
         parent, address = None, "?"
-    exe = renderer if os.sep in renderer else (shutil.which(renderer) or renderer)
+    exe = program if os.sep in program else (shutil.which(program) or program)
 
-    # A killed worker takes its renderer along (PR_SET_PDEATHSIG, Linux). prctl is looked up before
+    # A killed worker takes its program along (PR_SET_PDEATHSIG, Linux). prctl is looked up before
     # the fork, so that the child only calls it.
     try:
         prctl = ctypes.CDLL(None, use_errno=True).prctl
@@ -128,27 +132,31 @@ def _run_in_sandbox(renderer, scene_rel, files, args, env_extra, want_output):
         if prctl is not None:
             prctl(1, int(signal.SIGTERM))
 
-    sandbox = tempfile.mkdtemp(prefix="oas-shard-", dir=parent)
+    sandbox = tempfile.mkdtemp(prefix="oas-task-", dir=parent)
     try:
         _materialize(files, sandbox)
-        out = os.path.join(sandbox, "shard-out", "shard.exr")
-        cmd = [exe, scene_rel, *args] + (["-o", out] if want_output else [])
         env = dict(os.environ)
         env.update(env_extra)
         start = time.monotonic()
         try:
-            proc = subprocess.run(cmd, cwd=sandbox, env=env, stdin=subprocess.DEVNULL,
-                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                  preexec_fn=die_with_worker)
+            proc = subprocess.run([exe, *args], cwd=sandbox, env=env, stdin=subprocess.DEVNULL,
+                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, preexec_fn=die_with_worker)
         except OSError as e:
-            return (127, "", f"cannot run the renderer {renderer!r} on worker {address}: {e}\n", None,
+            return (127, "", f"cannot run {program!r} on worker {address}: {e}\n", None,
                     time.monotonic() - start, address)
         seconds = time.monotonic() - start
         data = None
-        if want_output and proc.returncode == 0:
+        if collect is not None and proc.returncode == 0:
+            path = os.path.join(sandbox, collect)
             try:
-                with open(out, "rb") as f:
-                    data = f.read()
+                if os.path.isdir(path):
+                    buffer = io.BytesIO()
+                    with tarfile.open(fileobj=buffer, mode="w:gz") as tar:
+                        tar.add(path, arcname=".")
+                    data = buffer.getvalue()
+                else:
+                    with open(path, "rb") as f:
+                        data = f.read()
             except OSError as e:
                 return (1, proc.stdout.decode(errors="replace"),
                         proc.stderr.decode(errors="replace") + f"\nexit 0 but no output: {e}\n", None, seconds,
@@ -164,8 +172,9 @@ def _render_shard(renderer, scene_rel, files, args, env_extra, index, count, lo,
     when the renderer fails."""
     import socket
 
+    output = "shard-out/shard.exr"
     rc, _, err, data, seconds, address = _run_in_sandbox(
-        renderer, scene_rel, files, [*args, "--samples", f"{lo}:{hi}"], env_extra, True)
+        renderer, [scene_rel, *args, "--samples", f"{lo}:{hi}", "-o", output], files, env_extra, output)
     if rc != 0 or data is None:
         lines = err.rstrip().splitlines()
         where = f"shard {index + 1}/{count} [{lo}, {hi}) failed on worker {address} ({socket.gethostname()})"
@@ -182,7 +191,7 @@ def _render_shard(renderer, scene_rel, files, args, env_extra, index, count, lo,
 
 def _explain(renderer, scene_rel, files, args, env_extra):
     """`renderer SCENE args --explain` on a worker: (exit status, stdout, stderr)."""
-    rc, out, err, _, _, _ = _run_in_sandbox(renderer, scene_rel, files, [*args, "--explain"], env_extra, False)
+    rc, out, err, _, _, _ = _run_in_sandbox(renderer, [scene_rel, *args, "--explain"], files, env_extra, None)
     return rc, out, err
 
 
@@ -351,31 +360,39 @@ def main(argv):
     except UsageError as e:
         fail(str(e))
 
-    import distributed  # here, not at the top: LocalCluster's spawned workers import this file
+    with tempfile.TemporaryDirectory(prefix="oas-cluster-") as tmp, \
+            open_client(args.workers or min(args.shards, os.cpu_count() or 1), args.scheduler) as (client, where):
+        return run(client, args, renderer, merger, files, scene_rel, env_extra, n, output, tmp, where)
 
-    with tempfile.TemporaryDirectory(prefix="oas-cluster-") as tmp:
-        cluster = None
-        try:
-            if local:
-                workers = args.workers or min(args.shards, os.cpu_count() or 1)
-                cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                                   dashboard_address=":0", silence_logs=logging.ERROR)
-                client = distributed.Client(cluster)
-                where = f"a LocalCluster of {workers} worker process{'es' if workers > 1 else ''}"
-            else:
-                try:
-                    client = distributed.Client(args.scheduler)
-                except (OSError, ValueError, TypeError) as e:
-                    fail(f"--scheduler {args.scheduler}: cannot connect: {e}")
-                workers = len(client.scheduler_info().get("workers", {}))
-                where = f"the cluster at {args.scheduler} ({workers} workers now)"
-                if workers == 0:
-                    print("cluster: the scheduler has no workers yet; the shards wait for some", file=sys.stderr)
-            with client:
-                return run(client, args, renderer, merger, files, scene_rel, env_extra, n, output, tmp, where)
-        finally:
-            if cluster is not None:
-                cluster.close()
+
+@contextlib.contextmanager
+def open_client(workers, scheduler):
+    """A Dask client and a description of where it runs: a LocalCluster of `workers` processes
+    (one thread each, no dashboard) on this machine, stopped at the end, or the running cluster at
+    `scheduler` (exits with status 2 when it cannot connect)."""
+    import distributed  # here, not at the top: LocalCluster's spawned workers import the driver's file
+
+    cluster = None
+    try:
+        if scheduler is None:
+            cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                               dashboard_address=":0", silence_logs=logging.ERROR)
+            client = distributed.Client(cluster)
+            where = f"a LocalCluster of {workers} worker process{'es' if workers > 1 else ''}"
+        else:
+            try:
+                client = distributed.Client(scheduler)
+            except (OSError, ValueError, TypeError) as e:
+                fail(f"--scheduler {scheduler}: cannot connect: {e}")
+            count = len(client.scheduler_info().get("workers", {}))
+            where = f"the cluster at {scheduler} ({count} workers now)"
+            if count == 0:
+                print("cluster: the scheduler has no workers yet; the tasks wait for some", file=sys.stderr)
+        with client:
+            yield client, where
+    finally:
+        if cluster is not None:
+            cluster.close()
 
 
 def run(client, args, renderer, merger, files, scene_rel, env_extra, n, output, tmp, where):

@@ -17,6 +17,9 @@
 # the equal-time tables use only those times (rerun it alone on another machine or a GPU).
 # cornell7d's four light-corner pixels get their share of the error from many CPU renders of just
 # those pixels (--scene-rare-pixels, --scene-max-rare-renders).
+# With --workers W or --scheduler tcp://HOST:PORT the scene part's accuracy renders run on Dask
+# workers instead (scripts/study_cluster.py, its options; the same error figures, byte for byte,
+# for any number of workers); the other parts then run with --parts as usual.
 # Plots need Debian's python3-matplotlib, installed here when missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,4 +29,9 @@ if ! /usr/bin/python3 -c "import matplotlib" 2>/dev/null; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq python3-matplotlib
 fi
 scripts/build.sh
+for arg in "$@"; do
+  case "$arg" in
+    --workers|--workers=*|--scheduler|--scheduler=*) exec /usr/bin/python3 scripts/study_cluster.py "$@" ;;
+  esac
+done
 build/oas-study "$@"

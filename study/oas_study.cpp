@@ -224,6 +224,18 @@ std::string cell(const SlopeFit& f)
 
 }  // namespace
 
+/// The samplers the scene part renders: quick mode a subset, to keep it to minutes (one
+/// path-tracing pipeline per construction x offset x field kind, ~1.5 s each on lavapipe, and the
+/// renders themselves); the full mode every sampler.
+static std::vector<SamplerSpec> sceneSamplersOf(const std::vector<SamplerSpec>& samplers, bool quick)
+{
+    std::vector<SamplerSpec> out;
+    for (const auto& s : samplers)
+        if (!quick || s.label == "BoseCMJ" || s.label == "Random" || s.label == "CMJ2D-pad" || s.label == "Sobol")
+            out.push_back(s);
+    return out;
+}
+
 int main(int argc, char** argv)
 {
     CLI::App app{"oas-study: the sampler study (analytic MSE slopes, scene error vs spp and time, cost, projections and spectra) -> docs/study, docs/STUDY.md"};
@@ -276,7 +288,7 @@ int main(int argc, char** argv)
         ->check(CLI::Range(2u, 4096u));
     app.add_option("--scene-extra-seconds", sceneExtraSeconds,
                    "render seconds per scene beyond the minimum renders, shared by its points where they shrink "
-                   "the s.e. most (quick 0, full 1800)")
+                   "the s.e. most (quick 0, full 1800); a sampler shard (--only) gets its samplers' share")
         ->check(CLI::Range(0.0, 1e6));
     app.add_option("--scene-rel-se", sceneRelSe, "target standard error ÷ mean of every scene relMSE (0.1)")
         ->check(CLI::Range(0.001, 1.0));
@@ -293,6 +305,27 @@ int main(int argc, char** argv)
                  "add renders to the chosen scenes' earlier measurements (same settings and reference; a larger "
                  "--scene-max-trials or budget is allowed) where a point's s.e. is still above the target, "
                  "instead of measuring them again");
+    std::string sceneRenderCost = "measured";
+    bool sceneJoin = false;
+    std::vector<std::string> mergeShards;
+    app.add_option("--scene-render-cost", sceneRenderCost,
+                   "what a render costs the extra budget: its measured seconds, or its point's seconds in the "
+                   "scene's cost run (scene_costs.csv), so that the renders made depend on the settings alone "
+                   "(measured)")
+        ->check(CLI::IsMember({"measured", "cost-run"}));
+    app.add_flag("--scene-join", sceneJoin,
+                 "with --only: a sampler shard that must join the scene's kept record and reference (an error "
+                 "instead of starting the scene over)");
+    app.add_option("--merge-scene-shards", mergeShards,
+                   "BASE SHARD...: merge sampler shards run against the base folder (scripts/study_cluster.py) "
+                   "into --out-dir, then reassemble (use with --parts none)")
+        ->expected(2, 1 << 20);
+    std::string mergeCommand;
+    app.add_option("--merge-command", mergeCommand,
+                   "with --merge-scene-shards: the command recorded in the merged scenes' records (the driver's)");
+    bool listSceneSamplers = false;
+    app.add_flag("--list-scene-samplers", listSceneSamplers,
+                 "print the labels of the samplers the scene part would run (after --quick and --only), one per line, and exit");
     app.add_flag("--no-plot", noPlot, "do not run study/plot.py afterwards");
     try {
         app.parse(argc, argv);
@@ -327,6 +360,10 @@ int main(int argc, char** argv)
         for (auto& s : samplers)
             if (std::find(only.begin(), only.end(), s.label) != only.end()) keep.push_back(s);
         samplers = keep;
+    }
+    if (listSceneSamplers) {
+        for (const auto& s : sceneSamplersOf(samplers, quick)) std::printf("%s\n", s.label.c_str());
+        return 0;
     }
 
     auto runAnalytic = [&]() {
@@ -697,21 +734,18 @@ int main(int argc, char** argv)
             // each beyond 6 renders, and its 16-49 spp points over 64 renders (2026-12-02 data).
             so.extraSecondsPerScene = sceneExtraSeconds >= 0 ? sceneExtraSeconds : (quick ? 0 : kFullExtraSeconds);
             // Sampler shards (--only): each shard joins the scene's earlier record when the settings
-            // match. The default extra budget is split by the shard's share of the samplers, so that a
-            // scene's shards together spend the full mode's budget.
+            // match. The extra budget (the default or the one given) is split by the shard's share of
+            // the samplers, so that a scene's shards together spend the scene's budget.
             so.samplerShard = !only.empty();
             so.topUp = sceneTopUp;
+            so.costRunCosts = sceneRenderCost == "cost-run";
+            so.mustJoin = sceneJoin;
+            if (sceneJoin && only.empty()) throw std::invalid_argument("--scene-join: valid only with --only (a sampler shard)");
             so.rarePixels = sceneRarePixels;
             so.maxRareRenders = sceneMaxRareRenders ? sceneMaxRareRenders : (quick ? 1024u : 16384u);
-            if (so.samplerShard && sceneExtraSeconds < 0 && !quick)
-                so.extraSecondsPerScene = kFullExtraSeconds * double(samplers.size()) / double(studySamplers().size());
-            // Quick mode: a subset of samplers, to keep it to minutes (one path-tracing pipeline per
-            // construction x offset x field kind, ~1.5 s each on lavapipe, and the renders
-            // themselves); the full mode renders every sampler.
-            std::vector<SamplerSpec> sceneSamplers;
-            for (const auto& s : samplers)
-                if (!quick || s.label == "BoseCMJ" || s.label == "Random" || s.label == "CMJ2D-pad" || s.label == "Sobol")
-                    sceneSamplers.push_back(s);
+            const auto sceneSamplers = sceneSamplersOf(samplers, quick);
+            if (so.samplerShard)
+                so.extraSecondsPerScene *= double(sceneSamplers.size()) / double(sceneSamplersOf(studySamplers(), quick).size());
             writeSection(outDir + "/scenes.md", runSceneStudy(so, sceneSamplers, device()));
         }
         if (wants("scene-costs")) {
@@ -758,7 +792,15 @@ int main(int argc, char** argv)
         }
         // Reassembling: the scene section again from its data files (e.g. after merging shards by
         // hand, or after a change to the tables); the other parts' sections are kept as they are.
-        if (wants("none")) {
+        if (!mergeShards.empty()) {
+            if (!wants("none") || parts.size() != 1)
+                throw std::invalid_argument("--merge-scene-shards: valid only with --parts none");
+            for (const auto& dir : mergeShards)
+                if (!std::filesystem::is_directory(dir))
+                    throw std::invalid_argument("--merge-scene-shards: " + dir + " is not a folder");
+            const std::vector<std::string> shardDirs(mergeShards.begin() + 1, mergeShards.end());
+            writeSection(outDir + "/scenes.md", mergeSceneShards(outDir, mergeShards.front(), shardDirs, samplers, mergeCommand));
+        } else if (wants("none")) {
             const std::string section = sceneSectionFromFiles(outDir, samplers);
             if (!section.empty()) writeSection(outDir + "/scenes.md", section);
         }

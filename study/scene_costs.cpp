@@ -71,6 +71,20 @@ std::vector<SceneCost> mergeSceneCosts(const std::vector<SceneCost>& kept, const
     return out;
 }
 
+double costRunSeconds(const std::vector<SceneCost>& sceneRows, const std::string& sampler, std::uint32_t spp)
+{
+    const SceneCost* nearest = nullptr;
+    for (const auto& c : sceneRows)
+        if (c.sampler == sampler && c.spp > 0 &&
+            (!nearest || std::abs(std::log(double(c.spp) / spp)) < std::abs(std::log(double(nearest->spp) / spp))))
+            nearest = &c;
+    if (!nearest)
+        throw std::runtime_error("scene_costs.csv: the cost run of scene " +
+                                 (sceneRows.empty() ? std::string("(none)") : sceneRows.front().scene) +
+                                 " has no row of sampler " + sampler + ": rerun --parts scene-costs for the scene");
+    return nearest->spp == spp ? nearest->seconds : nearest->seconds / nearest->spp * spp;
+}
+
 std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const std::string& scene)
 {
     std::vector<SceneCost> out;

@@ -31,6 +31,11 @@ std::vector<SceneCost> mergeSceneCosts(const std::vector<SceneCost>& kept, const
 /// (times from different runs are not comparable); empty when the scene has none.
 std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const std::string& scene);
 
+/// The seconds one render of (sampler, spp) costs by a scene's cost run (`sceneRows`, costsOfScene):
+/// the point's mean; for a count the run did not time, the sampler's seconds per spp at its timed
+/// count nearest in log × spp. Throws std::runtime_error when the run has no row of the sampler.
+double costRunSeconds(const std::vector<SceneCost>& sceneRows, const std::string& sampler, std::uint32_t spp);
+
 /// Mean and standard error (sd / √n) of the times; s.e. 0 for one time.
 SceneCost summarizeTimes(const std::vector<double>& seconds);
 

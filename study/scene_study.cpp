@@ -305,6 +305,28 @@ const std::vector<std::string> kRecordColumns = {
     "paper_spp", "min_renders", "max_renders", "rel_se_target", "extra_seconds", "run_seconds",
     "rare_count", "rare_pixels"};
 
+/// scene_equal_time.csv's rows (cells in kEqualTimeColumns order); none when the file is absent.
+std::vector<std::vector<std::string>> readEqualTimeRows(const std::string& path)
+{
+    std::vector<std::vector<std::string>> rows;
+    if (!std::filesystem::exists(path)) return rows;
+    const CsvRows old = readCsv(path);
+    for (const auto& row : old.rows) {
+        std::vector<std::string> cells;
+        for (const auto& name : kEqualTimeColumns) cells.push_back(row[old.column(name, path)]);
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+/// Position of a sampler label in studySamplers() (unknown labels after them).
+size_t samplerRank(const std::string& label)
+{
+    const auto every = studySamplers();
+    return size_t(std::find_if(every.begin(), every.end(), [&](const SamplerSpec& e) { return e.label == label; }) -
+                  every.begin());
+}
+
 /// Whether the file has column `name` (columns added later are optional: older files lack them).
 bool hasColumn(const CsvRows& t, const std::string& name)
 {
@@ -614,14 +636,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         try {
             keptRecords = readSceneRecords(refPath);
             keptMeasurements = readSceneMeasurements(csvPath);
-            if (fs::exists(eqPath)) {
-                const CsvRows old = readCsv(eqPath);
-                for (const auto& row : old.rows) {
-                    std::vector<std::string> cells;
-                    for (const auto& name : kEqualTimeColumns) cells.push_back(row[old.column(name, eqPath)]);
-                    keptEq.push_back(cells);
-                }
-            }
+            keptEq = readEqualTimeRows(eqPath);
         } catch (const std::exception& e) {
             std::fprintf(stderr, "note: the earlier scene data are not merged (%s); the section has only the scenes run now\n",
                          e.what());
@@ -737,10 +752,12 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             if (o.topUp)
                 throw std::invalid_argument("--scene-top-up: " + info.name + " cannot be topped up: " + why +
                                             "; run it without --scene-top-up");
+            if (o.mustJoin)
+                throw std::invalid_argument("--scene-join: " + info.name + " cannot join its kept record: " + why);
             std::fprintf(stderr, "note: %s starts over: %s\n", info.name.c_str(), why.c_str());
         };
-        if (o.topUp && !kept) cannotJoin("it has no earlier record in " + refPath);
-        if ((o.samplerShard || o.topUp) && kept) {
+        if ((o.topUp || o.mustJoin) && !kept) cannotJoin("it has no earlier record in " + refPath);
+        if ((o.samplerShard || o.topUp || o.mustJoin) && kept) {
             // A top-up may raise the renders-per-point cap (that is what it is for), not lower it.
             SceneRecord asKept = info;
             if (o.topUp && info.maxTrials >= kept->maxTrials) asKept.maxTrials = kept->maxTrials;
@@ -836,10 +853,23 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 keptCounts[p] = std::uint32_t(keptImage[p].size());
             }
         }
+        // What a render costs the shared budget (SceneStudyOptions::costRunCosts): its measured
+        // seconds, or its point's seconds in the scene's cost run, so that the choice of the next
+        // render does not depend on this run's timing.
+        std::vector<double> costRunCost;
+        if (o.costRunCosts && o.extraSecondsPerScene > 0) {
+            const auto sceneCosts = costsOfScene(costsIn(o.outDir), info.name);
+            if (sceneCosts.empty())
+                throw std::invalid_argument("--scene-render-cost cost-run: " + info.name + " has no cost run in " +
+                                            o.outDir + "/scene_costs.csv: run --parts scene-costs --scene " +
+                                            info.name + " first, or give --scene-extra-seconds 0");
+            for (const auto& pt : points) costRunCost.push_back(costRunSeconds(sceneCosts, samplers[pt.sampler].label, pt.spp));
+        }
         // What budgetedMeans targets per render: the full image (without the rare pixels where
         // they get their own renders below) and the crop.
-        auto drawOf = [&](const SceneMeasurement& m) {
-            return CostedDraw{{rare.empty() ? m.relMse : m.relMse - m.relMseRare, m.relMseCrop}, m.seconds};
+        auto drawOf = [&](std::size_t p, const SceneMeasurement& m) {
+            return CostedDraw{{rare.empty() ? m.relMse : m.relMse - m.relMseRare, m.relMseCrop},
+                              costRunCost.empty() ? m.seconds : costRunCost[p]};
         };
         const auto results = budgetedMeans(
             points.size(),
@@ -853,7 +883,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 }
                 if (t < keptCounts[p]) {
                     all.push_back(keptImage[p][t]);
-                    return drawOf(keptImage[p][t]);
+                    return drawOf(p, keptImage[p][t]);
                 }
                 auto& tracer = cache.get(*pt.pattern);
                 const Render r =
@@ -870,13 +900,13 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 m.relMse = m.relMseRaw - info.refErr;
                 m.relMseCrop = m.relMseCropRaw - info.refErrCrop;
                 const std::vector<double> pixelErrors = pixelRelErrors(r.image, reference);
-                for (auto p : rare) m.relMseRare += pixelErrors[p] / double(pixelErrors.size());
+                for (auto pixel : rare) m.relMseRare += pixelErrors[pixel] / double(pixelErrors.size());
                 m.relMseWorst = worstPixelsContribution(pixelErrors);
                 all.push_back(m);
                 if (t == 0) images[{s.label, pt.spp}] = r.image;
                 // With the rare-pixel split the renders target the rest of the image; the rare
                 // pixels' share gets its own renders below.
-                return drawOf(m);
+                return drawOf(p, m);
             },
             2, ao, o.extraSecondsPerScene, keptCounts);
         if (!rare.empty()) {
@@ -1007,10 +1037,6 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             eqRows.push_back(row);
     eqRows.insert(eqRows.end(), freshEq.begin(), freshEq.end());
     // Scene order, then table order (a joined shard's rows would otherwise come last).
-    auto samplerRank = [&](const std::string& label) {
-        return size_t(std::find_if(every.begin(), every.end(), [&](const SamplerSpec& e) { return e.label == label; }) -
-                      every.begin());
-    };
     std::stable_sort(eqRows.begin(), eqRows.end(), [&](const auto& a, const auto& b) {
         return std::make_pair(sceneRank(a[0]), samplerRank(a[1])) < std::make_pair(sceneRank(b[0]), samplerRank(b[1]));
     });
@@ -1690,6 +1716,88 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
     std::string text = md.str();
     const size_t at = text.find("\n| scene | device |");
     return text.substr(0, at + 1) + head.str() + text.substr(at + 1);
+}
+
+std::string mergeSceneShards(const std::string& outDir, const std::string& baseDir, const std::vector<std::string>& shardDirs,
+                             const std::vector<SamplerSpec>& samplers, const std::string& command)
+{
+    namespace fs = std::filesystem;
+    auto recordsIn = [](const std::string& dir) { return readSceneRecords(dir + "/scene_references.csv"); };
+    auto measurementsIn = [](const std::string& dir) { return readSceneMeasurements(dir + "/scenes.csv"); };
+    const std::vector<SceneRecord> base = recordsIn(baseDir);
+    std::vector<SceneRecord> joined = base;
+    std::vector<SceneMeasurement> measurements = measurementsIn(baseDir);
+    std::vector<std::vector<std::string>> eqRows = readEqualTimeRows(baseDir + "/scene_equal_time.csv");
+    // A shard's record is joinShardRecord(base, its own run): its own part is what follows the
+    // base's text in the listed fields, and its seconds less the base's.
+    auto ownPart = [](const std::string& shardText, const std::string& baseText, const std::string& sep) {
+        return shardText.size() > baseText.size() + sep.size() && shardText.compare(0, baseText.size(), baseText) == 0
+                   ? shardText.substr(baseText.size() + sep.size())
+                   : shardText;
+    };
+    for (const auto& dir : shardDirs) {
+        for (const SceneRecord& shard : recordsIn(dir)) {
+            const auto b = std::find_if(base.begin(), base.end(), [&](const SceneRecord& r) { return r.name == shard.name; });
+            std::string why;
+            if (b == base.end())
+                why = "the base " + baseDir + " has no record of it";
+            else if (!sameSceneSettings(*b, shard, &why) || shard.refErr != b->refErr || shard.refErrCrop != b->refErrCrop ||
+                     shard.rarePixels != b->rarePixels)
+                why = why.empty() ? "its reference differs from the base's" : why;
+            if (!why.empty())
+                throw std::runtime_error(dir + ": scene " + shard.name + " is not a shard of " + baseDir + " (" + why + ")");
+            SceneRecord own = shard;
+            own.runSeconds -= b->runSeconds;
+            own.extraSeconds -= b->extraSeconds;
+            own.date = ownPart(shard.date, b->date, " + ");
+            own.machine = ownPart(shard.machine, b->machine, " + ");
+            own.command = ownPart(shard.command, b->command, " ; ");
+            for (auto& r : joined)
+                if (r.name == shard.name) r = joinShardRecord(r, own);
+        }
+        measurements = mergeSamplerShard(measurements, measurementsIn(dir));
+        // Equal-time rows and pictures: the shard's samplers' rows replace the earlier ones.
+        const auto shardEq = readEqualTimeRows(dir + "/scene_equal_time.csv");
+        std::vector<std::vector<std::string>> keptEq;
+        for (const auto& row : eqRows)
+            if (std::none_of(shardEq.begin(), shardEq.end(), [&](const auto& s) { return s[0] == row[0] && s[1] == row[1]; }))
+                keptEq.push_back(row);
+        keptEq.insert(keptEq.end(), shardEq.begin(), shardEq.end());
+        eqRows = std::move(keptEq);
+    }
+    // Images: the base's (references), then each shard's (its equal-time pictures).
+    fs::create_directories(outDir + "/scenes");
+    for (const auto& dir : [&] { auto all = shardDirs; all.insert(all.begin(), baseDir); return all; }())
+        if (fs::is_directory(dir + "/scenes"))
+            for (const auto& entry : fs::directory_iterator(dir + "/scenes"))
+                fs::copy_file(entry.path(), outDir + "/scenes/" + entry.path().filename().string(),
+                              fs::copy_options::overwrite_existing);
+    if (!command.empty())
+        for (auto& r : joined) r.command = command;
+    // The scenes outside the base keep their rows from outDir's earlier files.
+    const std::string refPath = outDir + "/scene_references.csv", csvPath = outDir + "/scenes.csv",
+                      eqPath = outDir + "/scene_equal_time.csv";
+    if (fs::exists(refPath) && fs::exists(csvPath)) {
+        joined = mergeSceneRecords(readSceneRecords(refPath), joined);
+        measurements = mergeSceneMeasurements(readSceneMeasurements(csvPath), measurements);
+        std::vector<std::vector<std::string>> kept;
+        for (const auto& row : readEqualTimeRows(eqPath))
+            if (std::none_of(base.begin(), base.end(), [&](const SceneRecord& r) { return r.name == row[0]; }))
+                kept.push_back(row);
+        eqRows.insert(eqRows.begin(), kept.begin(), kept.end());
+    }
+    std::stable_sort(eqRows.begin(), eqRows.end(), [&](const auto& a, const auto& b) {
+        return std::make_pair(sceneRank(a[0]), samplerRank(a[1])) < std::make_pair(sceneRank(b[0]), samplerRank(b[1]));
+    });
+    CsvTable eq(kEqualTimeColumns);
+    for (const auto& row : eqRows) eq.add(row);
+    writeSceneMeasurements(csvPath, measurements);
+    writeSceneRecords(refPath, joined);
+    eq.write(eqPath);
+    const auto writtenRecords = readSceneRecords(refPath);
+    const auto writtenMeasurements = readSceneMeasurements(csvPath);
+    writeCurves(outDir + "/scene_curves.csv", curvesOfRecords(writtenRecords, writtenMeasurements));
+    return sceneSection(writtenRecords, writtenMeasurements, samplers, costsIn(outDir));
 }
 
 }  // namespace oas::study

@@ -86,6 +86,18 @@ struct SceneStudyOptions {
     /// must have an earlier record with the same settings apart from the renders-per-point cap, and
     /// its reference image; otherwise the run stops with an error instead of starting over.
     bool topUp = false;
+    /// What one render costs the shared budget: its own measured seconds (false), or its point's
+    /// mean seconds in the scene's cost run (outDir/scene_costs.csv; true). Measured seconds vary
+    /// from run to run, so which point gets the next extra render does too; the cost run's seconds
+    /// are fixed data, so the renders a run makes (and every error figure) depend only on the
+    /// settings: a run split over Dask workers (scripts/study_cluster.py) gives the same figures,
+    /// byte for byte, as one worker. A point the cost run lacks costs its sampler's seconds per
+    /// spp at its nearest timed count × its spp. Needs the scene's cost run only when
+    /// extraSecondsPerScene > 0.
+    bool costRunCosts = false;
+    /// A sampler shard that must join the scene's kept record and reference (a Dask task): when it
+    /// cannot, the run stops with an error instead of starting the scene over.
+    bool mustJoin = false;
 };
 
 /// One scene's run, a row of scene_references.csv: its size, crop and reference, and the settings,
@@ -229,6 +241,20 @@ std::string sceneSection(const std::vector<SceneRecord>& records, const std::vec
 /// The section from outDir's scene_references.csv, scenes.csv and (when present) scene_costs.csv
 /// (`oas-study --parts none`); empty when outDir has no scene data.
 std::string sceneSectionFromFiles(const std::string& outDir, const std::vector<SamplerSpec>& samplers);
+
+/// Merges sampler shards run against one base (scripts/study_cluster.py): `baseDir` holds the
+/// scenes' records, reference images and the reference shard's rows; each of `shardDirs` is a
+/// copy of it after one `--only S --scene-join` run. The result in outDir is the base's records
+/// joined with each shard's own part (joinShardRecord; the base's run and extra seconds, which
+/// every shard's record already holds, are counted once), the measurements of every (scene,
+/// sampler) from the last dir that has them (mergeSamplerShard, in the given order), the
+/// equal-time rows and images likewise, then scene_curves.csv; rows of scenes outside the base are
+/// kept from outDir's earlier files. Throws std::runtime_error when a shard's record has other
+/// settings or another reference error than the base's (it did not join). Returns the section.
+/// `command` (when not empty) replaces the merged records' command lists: the driver's command
+/// line, instead of one oas-study command per task.
+std::string mergeSceneShards(const std::string& outDir, const std::string& baseDir, const std::vector<std::string>& shardDirs,
+                             const std::vector<SamplerSpec>& samplers, const std::string& command = "");
 
 /// Runs the scene study on the Vulkan device for the chosen scenes and merges them into outDir's
 /// scenes.csv, scene_references.csv and scene_equal_time.csv (the rows of scenes not run are kept:

@@ -154,6 +154,31 @@ TEST(SceneCosts, AScenesTimesMustComeFromOneRun)
                  std::runtime_error);
 }
 
+// The accuracy part's extra budget prices a render by the cost run (--scene-render-cost cost-run):
+// a timed point its mean, another count the sampler's nearest timed seconds per spp, scaled.
+TEST(SceneCosts, ARenderCostsItsPointsCostRunSeconds)
+{
+    std::vector<SceneCost> rows;
+    for (auto [spp, seconds] : {std::pair{16u, 0.4}, {64u, 1.2}, {256u, 4.0}}) {
+        SceneCost c;
+        c.scene = "cornell7d";
+        c.sampler = "Sobol";
+        c.spp = spp;
+        c.seconds = seconds;
+        rows.push_back(c);
+    }
+    EXPECT_DOUBLE_EQ(costRunSeconds(rows, "Sobol", 64), 1.2);
+    EXPECT_DOUBLE_EQ(costRunSeconds(rows, "Sobol", 100), 1.2 / 64 * 100);  // nearest in log: 64
+    EXPECT_DOUBLE_EQ(costRunSeconds(rows, "Sobol", 4096), 4.0 / 256 * 4096);
+    EXPECT_DOUBLE_EQ(costRunSeconds(rows, "Sobol", 8), 0.4 / 16 * 8);
+    try {
+        costRunSeconds(rows, "Halton", 64);
+        FAIL() << "a sampler the cost run lacks got a price";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("Halton"), std::string::npos) << e.what();
+    }
+}
+
 TEST(SceneCosts, EqualTimeTablesUseTheCostRunAndNothingElse)
 {
     const std::vector<SamplerSpec> samplers = {specOf("Sobol"), specOf("Random")};

@@ -577,6 +577,70 @@ TEST(StudyShards, SamplerShardsJoinOnlyWithTheSameSettings)
     }
 }
 
+// scripts/study_cluster.py's merge: every task folder is a copy of the base after one sampler
+// shard; the base's part (rows, seconds, date, command) counts once, and a folder whose reference
+// is not the base's is refused.
+TEST(StudyShards, MergingTaskFoldersCountsTheBaseOnceAndRefusesAnotherReference)
+{
+    namespace fs = std::filesystem;
+    const fs::path root = fs::path(::testing::TempDir()) / "oas_merge_scene_shards";
+    fs::remove_all(root);
+    auto folder = [&](const std::string& name, const std::vector<SceneRecord>& records,
+                      const std::vector<SceneMeasurement>& rows) {
+        fs::create_directories(root / name / "scenes");
+        writeSceneRecords((root / name / "scene_references.csv").string(), records);
+        writeSceneMeasurements((root / name / "scenes.csv").string(), rows);
+        return (root / name).string();
+    };
+    const SceneRecord base = recordOf("cornell7d", "full mode");  // runSeconds 321, extraSeconds 120
+    const auto sobol = measurementsOf("cornell7d", "Sobol", 5e-3);
+    const std::string baseDir = folder("base", {base}, sobol);
+    std::vector<std::string> shardDirs;
+    for (const std::string sampler : {"BoseCMJ", "Random"}) {
+        SceneRecord own = base;
+        own.runSeconds = 50;
+        own.extraSeconds = 10;
+        own.date = "2026-12-04 01:00 UTC";
+        own.command = "oas-study --only " + sampler;
+        auto rows = sobol;
+        for (const auto& m : measurementsOf("cornell7d", sampler, 1e-2)) rows.push_back(m);
+        shardDirs.push_back(folder(sampler, {joinShardRecord(base, own)}, rows));
+    }
+    const fs::path out = root / "out";
+    fs::create_directories(out);
+    // A scene outside the base stays as it was.
+    writeSceneRecords((out / "scene_references.csv").string(), {recordOf("interior_deep", "full mode")});
+    writeSceneMeasurements((out / "scenes.csv").string(), measurementsOf("interior_deep", "Sobol", 1e-3));
+    mergeSceneShards(out.string(), baseDir, shardDirs, studySamplers(), "scripts/study_cluster.py --workers 2");
+    const auto records = readSceneRecords((out / "scene_references.csv").string());
+    ASSERT_EQ(records.size(), 2u);
+    EXPECT_EQ(records[0].name, "cornell7d");
+    EXPECT_DOUBLE_EQ(records[0].runSeconds, 321 + 50 + 50);
+    EXPECT_DOUBLE_EQ(records[0].extraSeconds, 120 + 10 + 10);
+    EXPECT_EQ(records[0].date, base.date + " + 2026-12-04 01:00 UTC");
+    EXPECT_EQ(records[0].command, "scripts/study_cluster.py --workers 2");
+    EXPECT_EQ(records[1].name, "interior_deep");
+    const auto rows = readSceneMeasurements((out / "scenes.csv").string());
+    std::map<std::string, int> perSampler;
+    for (const auto& m : rows) perSampler[m.scene + " " + m.sampler]++;
+    EXPECT_EQ(perSampler, (std::map<std::string, int>{{"cornell7d Sobol", 6},
+                                                      {"cornell7d BoseCMJ", 6},
+                                                      {"cornell7d Random", 6},
+                                                      {"interior_deep Sobol", 6}}));
+
+    // A task folder whose reference differs (it started the scene over) is refused, by name.
+    SceneRecord other = base;
+    other.refErr *= 2;
+    const std::string stray = folder("stray", {other}, sobol);
+    try {
+        mergeSceneShards(out.string(), baseDir, {stray}, studySamplers());
+        FAIL() << "a folder with another reference merged";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(stray), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("reference"), std::string::npos) << e.what();
+    }
+}
+
 TEST(StudyShards, TheSectionNamesTheSamplersAShardedSceneLacks)
 {
     std::vector<SceneMeasurement> ms;
