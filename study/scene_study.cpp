@@ -44,6 +44,12 @@ bool isOa(const SamplerSpec& s) { return s.strength > 0; }
 
 std::string sci(double v) { return std::isfinite(v) ? fmtG(v, 3) : "—"; }
 
+/// A reference relMSE with its s.e., or with the bound used where the run did not record one.
+std::string referenceCell(double value, double se)
+{
+    return sci(value) + (std::isfinite(se) ? " ± " + fmtG(se, 2) : " (s.e. ≤ itself)");
+}
+
 /// The curve with each point's time from `rows` (its scene's cost run, scene_costs.hpp); points
 /// the cost run did not time are dropped.
 SceneCurve withCostTimes(const SceneCurve& c, const std::vector<SceneCost>& rows)
@@ -129,6 +135,14 @@ std::vector<double> pixelRelErrors(const oas::image::Image& image, const oas::im
         e[p] = sum / 3;
     }
     return e;
+}
+
+double referenceErrorSe(const std::vector<double>& pixelErrors)
+{
+    if (pixelErrors.empty()) return NAN;
+    double squares = 0;
+    for (double e : pixelErrors) squares += e * e;
+    return std::sqrt(2.0 / 3.0 * squares) / (4.0 * double(pixelErrors.size()));
 }
 
 double worstPixelsContribution(std::vector<double> e, double fraction)
@@ -303,7 +317,7 @@ const std::vector<std::string> kRecordColumns = {
     "ref_rel_mse_crop", "seconds", "crop_x", "crop_y",       "crop_w",      "crop_h",            "largest_spp",
     "device",    "machine",   "date",         "command",     "mode",              "min_spp",       "max_spp",
     "paper_spp", "min_renders", "max_renders", "rel_se_target", "extra_seconds", "run_seconds",
-    "rare_count", "rare_pixels"};
+    "rare_count", "rare_pixels", "ref_rel_mse_se", "ref_rel_mse_crop_se"};
 
 /// scene_equal_time.csv's rows (cells in kEqualTimeColumns order); none when the file is absent.
 std::vector<std::vector<std::string>> readEqualTimeRows(const std::string& path)
@@ -378,7 +392,10 @@ std::vector<T> mergeByScene(const std::vector<T>& kept, const std::vector<T>& fr
     return mergeByKey(kept, fresh, nameOf, nameOf);
 }
 
-/// Each record's curves, its points marked capped by its own s.e. target.
+/// Each record's curves, its points marked capped by its own s.e. target. Every relMSE is the
+/// render's error less the reference's own estimated error (refErr), so its s.e. includes the
+/// reference's: √(s.e.² + s.e.(refErr)²), with s.e.(refErr) = refErr itself for records that did
+/// not measure it (referenceErrorSe came later).
 std::vector<SceneCurve> curvesOfRecords(const std::vector<SceneRecord>& records,
                                         const std::vector<SceneMeasurement>& measurements)
 {
@@ -387,7 +404,13 @@ std::vector<SceneCurve> curvesOfRecords(const std::vector<SceneRecord>& records,
         std::vector<SceneMeasurement> mine;
         for (const auto& m : measurements)
             if (m.scene == r.name) mine.push_back(m);
-        for (auto& c : curvesOf(mine, r.relSeTarget)) curves.push_back(std::move(c));
+        const double refSe = std::isfinite(r.refErrSe) ? r.refErrSe : std::abs(r.refErr);
+        const double refSeCrop = std::isfinite(r.refErrCropSe) ? r.refErrCropSe : std::abs(r.refErrCrop);
+        for (auto& c : curvesOf(mine, r.relSeTarget)) {
+            for (auto& e : c.relMseE) e.se = std::hypot(e.se, refSe);
+            for (auto& e : c.relMseCropE) e.se = std::hypot(e.se, refSeCrop);
+            curves.push_back(std::move(c));
+        }
     }
     return curves;
 }
@@ -421,7 +444,8 @@ void writeSceneRecords(const std::string& path, const std::vector<SceneRecord>& 
                std::to_string(r.largestSpp), r.device, r.machine, r.date, r.command, r.modeLabel,
                std::to_string(r.minSpp), std::to_string(r.maxSpp), std::to_string(r.paperHighSpp),
                std::to_string(r.minTrials), std::to_string(r.maxTrials), fmtG(r.relSeTarget), fmtG(r.extraSeconds),
-               fmtG(r.runSeconds), std::to_string(r.rareCount), r.rarePixels});
+               fmtG(r.runSeconds), std::to_string(r.rareCount), r.rarePixels, fmtG(r.refErrSe, 9),
+               fmtG(r.refErrCropSe, 9)});
     t.write(path);
 }
 
@@ -443,6 +467,10 @@ std::vector<SceneRecord> readSceneRecords(const std::string& path)
         r.referenceSpp = cnt("reference_spp");
         r.refErr = num("ref_rel_mse");
         r.refErrCrop = num("ref_rel_mse_crop");
+        if (hasColumn(t, "ref_rel_mse_se")) {  // added later; "nan" when a run did not measure it
+            r.refErrSe = num("ref_rel_mse_se");
+            r.refErrCropSe = num("ref_rel_mse_crop_se");
+        }
         r.refSeconds = num("seconds");
         r.crop = {cnt("crop_x"), cnt("crop_y"), cnt("crop_w"), cnt("crop_h")};
         r.largestSpp = cnt("largest_spp");
@@ -584,6 +612,8 @@ SceneRecord joinShardRecord(const SceneRecord& kept, const SceneRecord& fresh)
     r.referenceSpp = kept.referenceSpp;
     r.refErr = kept.refErr;
     r.refErrCrop = kept.refErrCrop;
+    r.refErrSe = kept.refErrSe;
+    r.refErrCropSe = kept.refErrCropSe;
     r.refSeconds = kept.refSeconds;
     r.rarePixels = kept.rarePixels;  // chosen with the reference
     r.largestSpp = std::max(kept.largestSpp, fresh.largestSpp);
@@ -785,6 +815,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                          refExr.c_str(), kept->referenceSpp);
             info.refErr = kept->refErr;
             info.refErrCrop = kept->refErrCrop;
+            info.refErrSe = kept->refErrSe;
+            info.refErrCropSe = kept->refErrCropSe;
             info.rarePixels = kept->rarePixels;
         } else {
             // Reference: Owen-scrambled Sobol, two independent halves. For independent renders A and
@@ -802,6 +834,13 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 reference.rgba[i] = 0.5f * (a.image.rgba[i] + b.image.rgba[i]);
             info.refErr = oas::image::compare(a.image, b.image).relMse / 4;
             info.refErrCrop = oas::image::compare(a.image, b.image, info.crop).relMse / 4;
+            const std::vector<double> halfErrors = pixelRelErrors(a.image, b.image);
+            std::vector<double> cropErrors;
+            for (std::uint32_t y = info.crop.y; y < info.crop.y + info.crop.h; ++y)
+                for (std::uint32_t x = info.crop.x; x < info.crop.x + info.crop.w; ++x)
+                    cropErrors.push_back(halfErrors[std::size_t(y) * info.width + x]);
+            info.refErrSe = referenceErrorSe(halfErrors);
+            info.refErrCropSe = referenceErrorSe(cropErrors);
             info.refSeconds = a.seconds + b.seconds;
             // The rare pixels: where the halves disagree most, relative to the value (independent
             // of every measured render, which all have other seeds).
@@ -1212,7 +1251,8 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
        << "- relMSE = mean over pixels and R, G, B of (I − R)² / (R² + 0.01) (Rousselle et al.; the paper's metric), "
           "for the full image and for a crop; the reference (Owen-scrambled Sobol as two independent halves, at "
        << referenceRatios()
-       << ") has its own relMSE, estimated from its two halves, subtracted (table below).\n"
+       << ") has its own relMSE, estimated from its two halves, subtracted (table below), and its standard error "
+          "added to every point's: s.e. = √(s.e.(renders)² + s.e.(reference)²).\n"
        << "- Time: wall-clock of a render's dispatches, pipeline build excluded, from the scene's cost run: every "
           "(sampler, spp) point rendered once per round, all points in the same order in each round, at least 3 "
           "rounds, in one run on one machine (mean ± s.e. over rounds in [`scene_costs.csv`](study/scene_costs.csv), "
@@ -1278,10 +1318,14 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
                     minFull = std::min(minFull, c.relMse[i]), minCrop = std::min(minCrop, c.relMseCrop[i]);
         md << "| " << info.name << " | " << info.width << "×" << info.height << " | " << info.dims << " | "
            << info.crop.w << "×" << info.crop.h << " at (" << info.crop.x << ", " << info.crop.y << "): " << cropWhatOf(info.name)
-           << " | " << info.referenceSpp << " | " << sci(info.refErr) << " / " << sci(info.refErrCrop) << " | " << sci(minFull) << " / " << sci(minCrop)
+           << " | " << info.referenceSpp << " | " << referenceCell(info.refErr, info.refErrSe) << " / "
+           << referenceCell(info.refErrCrop, info.refErrCropSe) << " | " << sci(minFull) << " / " << sci(minCrop)
            << " |\n";
     }
-    md << "\nThe smallest measured relMSE is the smallest per-point mean.\n\n"
+    md << "\nThe smallest measured relMSE is the smallest per-point mean. The reference's s.e. comes from its "
+          "halves' per-pixel differences (√((2/3) Σ e_p²) / 4P: each term taken as its mean times a χ²₁ variable, "
+          "which errs large); a scene measured before that was recorded shows \"s.e. ≤ itself\" and its points "
+          "take the reference relMSE itself as that s.e.\n\n"
        << "![relMSE vs spp](study/scene_error_vs_spp.png)\n\n![relMSE vs time](study/scene_error_vs_time.png)\n\n";
 
     // One row of the tables at a paper count: the sampler's estimate at ladder count n, against

@@ -4,6 +4,7 @@
 // (lavapipe in CI), for every sampler of the study; equal-time and time-to-target tables; false
 // colour error images at equal time; and each sampler's extra share of a frame's time.
 // Jarosz et al. 2019 report relative MSE for the same kinds of scenes at 121/128 spp.
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -111,6 +112,9 @@ struct SceneRecord {
     std::string referenceSampler = "sobol";
     std::uint32_t referenceSpp = 0, largestSpp = 0;
     double refErr = 0, refErrCrop = 0, refSeconds = 0;
+    /// Standard errors of refErr and refErrCrop (referenceErrorSe); NaN for runs that did not
+    /// record them, whose curves then take refErr itself as the s.e. (a bound: curvesOfRecords).
+    double refErrSe = NAN, refErrCropSe = NAN;
     // How it was measured.
     std::string device, machine, date, command, modeLabel;
     std::uint32_t minSpp = 0, maxSpp = 0, paperHighSpp = 0, minTrials = 0, maxTrials = 0;
@@ -172,6 +176,13 @@ inline constexpr double kWorstPixelFraction = 0.001;
 /// oas::image::compare sums it (its mean over pixels is compare's relMse).
 std::vector<double> pixelRelErrors(const oas::image::Image& image, const oas::image::Image& reference,
                                    double relEpsilon = 1e-2);
+/// The standard error of a reference's own relMSE estimate relMSE(A, B) / 4 from the per-pixel
+/// terms e_p (pixelRelErrors(A, B) over the pixels it averages): E relMSE(A, B) = (1/P) Σ E e_p,
+/// and for Gaussian pixel noise with R, G, B moving together e_p is its mean times a χ²₁ variable,
+/// of variance 2 (E e_p)², which (2/3) e_p² estimates without bias (E χ⁴ = 3); less correlated
+/// channels have a smaller variance, so this errs large. s.e. = √((2/3) Σ e_p²) / (4 P).
+double referenceErrorSe(const std::vector<double>& pixelErrors);
+
 /// The contribution to the image's relMSE (mean over all pixels) of its max(1, ceil(fraction × P))
 /// largest per-pixel errors.
 double worstPixelsContribution(std::vector<double> pixelErrors, double fraction = kWorstPixelFraction);

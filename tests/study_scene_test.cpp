@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -298,6 +299,45 @@ TEST(StudyShards, FilesWithoutTheRarePixelColumnsStillRead)
     ASSERT_EQ(rs.size(), 1u);
     EXPECT_EQ(rs[0].rareCount, 0u);
     EXPECT_EQ(rs[0].rarePixels, "");
+}
+
+// The reference's s.e. against the spread of its estimate over many independent pairs of halves
+// (Gaussian pixel noise of 3% of pixel values from 0.5 to 2): equal within sampling error when R,
+// G, B share their noise (χ²₁ terms, the case the formula assumes), about √(5/3) = 1.29 too large
+// when each channel has its own (χ²₃/3 terms: it errs large, as documented).
+TEST(StudyRare, TheReferencesStandardErrorMatchesItsSpreadOverIndependentHalves)
+{
+    for (const bool sharedNoise : {true, false}) {
+        std::mt19937 rng(sharedNoise ? 7 : 8);
+        std::normal_distribution<double> noise(0.0, 1.0);
+        const std::uint32_t w = 32, h = 32, pairs = 400;
+        std::vector<double> estimates, ses;
+        for (std::uint32_t k = 0; k < pairs; ++k) {
+            oas::image::Image a(w, h), b(w, h);
+            for (std::uint32_t p = 0; p < w * h; ++p) {
+                const double value = 0.5 + 1.5 * double(p) / (w * h);
+                for (auto* img : {&a, &b}) {
+                    const double shared = noise(rng);
+                    for (int c = 0; c < 3; ++c)
+                        img->rgba[4 * p + c] = float(value * (1 + 0.03 * (sharedNoise ? shared : noise(rng))));
+                }
+            }
+            const std::vector<double> e = pixelRelErrors(a, b);
+            double sum = 0;
+            for (double v : e) sum += v;
+            estimates.push_back(sum / double(e.size()) / 4);
+            ses.push_back(referenceErrorSe(e));
+        }
+        const Estimate spread = estimateOf(estimates);
+        const double observedSd = spread.se * std::sqrt(double(pairs));
+        double meanSe = 0;
+        for (double v : ses) meanSe += v / pairs;
+        const double ratio = meanSe / observedSd;
+        if (sharedNoise)
+            EXPECT_NEAR(ratio, 1.0, 0.12) << "s.e. " << meanSe << " vs observed sd " << observedSd;
+        else
+            EXPECT_NEAR(ratio, 1.29, 0.15) << "s.e. " << meanSe << " vs observed sd " << observedSd;
+    }
 }
 
 TEST(StudyRare, PicksThePixelsWhoseHalvesDifferMostRelativeToTheirValue)
