@@ -458,9 +458,14 @@ def run(client, args, renderer, merger, files, scene_rel, env_extra, n, output, 
     return 0
 
 
-if __name__ == "__main__":
+def run_main(main_function, name):
+    """Runs a driver's main on the command line: its return value is the exit status, 130 after ^C."""
     try:
-        sys.exit(main(sys.argv[1:]))
+        sys.exit(main_function(sys.argv[1:]))
     except KeyboardInterrupt:
-        print("cluster: interrupted", file=sys.stderr)
+        print(f"{name}: interrupted", file=sys.stderr)
         sys.exit(130)
+
+
+if __name__ == "__main__":
+    run_main(main, "cluster")

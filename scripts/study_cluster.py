@@ -253,8 +253,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    try:
-        sys.exit(main(sys.argv[1:]))
-    except KeyboardInterrupt:
-        print("study_cluster: interrupted", file=sys.stderr)
-        sys.exit(130)
+    cluster.run_main(main, "study_cluster")

@@ -13,53 +13,17 @@ missing device fails the test.
 
 import os
 import re
-import subprocess
 import sys
 import tempfile
-import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_test_support import check, finish, run, step, write_flaky_wrapper  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "data", "cluster_8x8.json")
 OPTIONS = ["--seed", "3"]  # passed through to every oas-render call; the plain renders use it too
 
-WRAPPER = """#!/bin/sh
-# cluster_test.py: for --samples $OAS_CLUSTER_TEST_FAIL_RANGE, fail the first time (or every time with
-# OAS_CLUSTER_TEST_FAIL_MODE=always), appending a line to $OAS_CLUSTER_TEST_MARKER; else run oas-render.
-prev=
-for arg in "$@"; do
-  if [ "$prev" = --samples ] && [ "$arg" = "$OAS_CLUSTER_TEST_FAIL_RANGE" ]; then
-    if [ "$OAS_CLUSTER_TEST_FAIL_MODE" = always ] || [ ! -e "$OAS_CLUSTER_TEST_MARKER" ]; then
-      echo "$arg" >> "$OAS_CLUSTER_TEST_MARKER"
-      echo "cluster_test: injected failure for --samples $arg" >&2
-      exit 1
-    fi
-  fi
-  prev=$arg
-done
-exec "$OAS_CLUSTER_TEST_REAL" "$@"
-"""
 
-failures = []
-
-
-def step(text):
-    print(f"== {text}", flush=True)
-
-
-def check(condition, what, detail=""):
-    if condition:
-        print(f"   ok: {what}", flush=True)
-    else:
-        print(f"   FAILED: {what}" + (f"\n{detail}" if detail else ""), flush=True)
-        failures.append(what)
-    return condition
-
-
-def run(cmd, env=None, timeout=300):
-    start = time.monotonic()
-    proc = subprocess.run(cmd, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
-    print(f"   $ {' '.join(cmd)}\n     exit {proc.returncode} in {time.monotonic() - start:.1f} s", flush=True)
-    return proc
 
 
 def main():
@@ -80,11 +44,9 @@ def main():
         scratch = os.path.join(tmp, "scratch")  # TMPDIR of the driver and its workers
         os.makedirs(scratch)
         wrapper = os.path.join(tmp, "flaky-oas-render")
-        with open(wrapper, "w") as f:
-            f.write(WRAPPER)
-        os.chmod(wrapper, 0o755)
+        write_flaky_wrapper(wrapper, "--samples")
         marker = os.path.join(tmp, "failed-once")
-        env = dict(os.environ, TMPDIR=scratch, OAS_CLUSTER_TEST_REAL=render, OAS_CLUSTER_TEST_MARKER=marker)
+        env = dict(os.environ, TMPDIR=scratch, OAS_TEST_REAL=render, OAS_TEST_MARKER=marker)
 
         def driver(args, extra_env=None):
             """The driver with the binaries under test (the wrapper where args name --renderer)."""
@@ -135,7 +97,7 @@ def main():
         step(f"{shards} shards on 2 workers, {main_device}; shard 2 ({fail_range}) fails once and is rerun")
         out = os.path.join(tmp, "out", "sharded.exr")
         proc = driver([SCENE, "--shards", str(shards), "--workers", "2", "--renderer", wrapper, "--device", main_device,
-                       *OPTIONS, "-o", out], {"OAS_CLUSTER_TEST_FAIL_RANGE": fail_range})
+                       *OPTIONS, "-o", out], {"OAS_TEST_FAIL_VALUE": fail_range})
         if check(proc.returncode == 0, "the driver succeeds", proc.stderr):
             check(os.path.exists(marker), "the injected failure happened (marker file written)")
             check(proc.stderr.count(") done in ") == shards, f"{shards} progress lines", proc.stderr)
@@ -153,7 +115,7 @@ def main():
         bad = os.path.join(tmp, "bad.exr")
         proc = driver([SCENE, "--shards", "2", "--workers", "2", "--retries", "1", "--renderer", wrapper,
                        "--device", "cpu", *OPTIONS, "-o", bad],
-                      {"OAS_CLUSTER_TEST_FAIL_RANGE": f"0:{(n + 1) // 2}", "OAS_CLUSTER_TEST_FAIL_MODE": "always"})
+                      {"OAS_TEST_FAIL_VALUE": f"0:{(n + 1) // 2}", "OAS_TEST_FAIL_MODE": "always"})
         check(proc.returncode == 1, "exit 1", proc.stderr)
         check("injected failure" in proc.stderr, "the message quotes the renderer's stderr", proc.stderr)
         tries = open(marker).read().split() if os.path.exists(marker) else []
@@ -178,10 +140,7 @@ def main():
         check(proc.returncode == 2 and missing in proc.stderr, "a missing scene: exit 2 naming the file", proc.stderr)
         check(not os.path.exists(os.path.join(tmp, "refused.exr")), "no output written")
 
-    if failures:
-        print(f"FAILED: {len(failures)} check(s): " + "; ".join(failures))
-        sys.exit(1)
-    print("all checks passed")
+    finish()
 
 
 if __name__ == "__main__":

@@ -14,10 +14,11 @@ OAS_REQUIRE_GPU=1, where a missing device fails it.
 import csv
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from script_test_support import check, finish, run, step, write_flaky_wrapper  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENES = os.path.join(os.path.dirname(HERE), "scenes")
@@ -28,44 +29,7 @@ SETTINGS = ["--scene", "cornell7d", "--quick", "--scene-width", "8", "--scene-ma
 # Extra renders beyond the minimum: 4 cost-run seconds for the scene, up to 12 renders a point.
 BUDGET = ["--scene-extra-seconds", "4", "--scene-max-trials", "12"]
 
-WRAPPER = """#!/bin/sh
-# study_cluster_test.py: for a task with --only $OAS_STUDY_TEST_FAIL_ONLY, fail the first time (or
-# every time with OAS_STUDY_TEST_FAIL_MODE=always), appending a line to $OAS_STUDY_TEST_MARKER.
-prev=
-for arg in "$@"; do
-  if [ "$prev" = --only ] && [ "$arg" = "$OAS_STUDY_TEST_FAIL_ONLY" ]; then
-    if [ "$OAS_STUDY_TEST_FAIL_MODE" = always ] || [ ! -e "$OAS_STUDY_TEST_MARKER" ]; then
-      echo "$arg" >> "$OAS_STUDY_TEST_MARKER"
-      echo "study_cluster_test: injected failure for --only $arg" >&2
-      exit 1
-    fi
-  fi
-  prev=$arg
-done
-exec "$OAS_STUDY_TEST_REAL" "$@"
-"""
 
-failures = []
-
-
-def step(text):
-    print(f"== {text}", flush=True)
-
-
-def check(condition, what, detail=""):
-    if condition:
-        print(f"   ok: {what}", flush=True)
-    else:
-        print(f"   FAILED: {what}" + (f"\n{detail}" if detail else ""), flush=True)
-        failures.append(what)
-    return condition
-
-
-def run(cmd, env=None, timeout=400):
-    start = time.monotonic()
-    proc = subprocess.run(cmd, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True, timeout=timeout)
-    print(f"   $ {' '.join(cmd)}\n     exit {proc.returncode} in {time.monotonic() - start:.1f} s", flush=True)
-    return proc
 
 
 def error_figures(folder):
@@ -94,11 +58,9 @@ def main():
         scratch = os.path.join(tmp, "scratch")  # TMPDIR of the driver and its workers
         os.makedirs(scratch)
         wrapper = os.path.join(tmp, "flaky-oas-study")
-        with open(wrapper, "w") as f:
-            f.write(WRAPPER)
-        os.chmod(wrapper, 0o755)
+        write_flaky_wrapper(wrapper, "--only")
         marker = os.path.join(tmp, "failed-once")
-        env = dict(os.environ, TMPDIR=scratch, OAS_STUDY_TEST_REAL=study, OAS_STUDY_TEST_MARKER=marker)
+        env = dict(os.environ, TMPDIR=scratch, OAS_TEST_REAL=study, OAS_TEST_MARKER=marker)
 
         def driver(out, args, extra_env=None, program=study):
             os.makedirs(out, exist_ok=True)
@@ -136,7 +98,7 @@ def main():
             shutil.copy(os.path.join(first, "scene_costs.csv"), out)
             flaky = workers == 2
             proc = driver(out, ["--workers", str(workers), *SETTINGS, *BUDGET],
-                          {"OAS_STUDY_TEST_FAIL_ONLY": "Random"} if flaky else None, wrapper if flaky else study)
+                          {"OAS_TEST_FAIL_VALUE": "Random"} if flaky else None, wrapper if flaky else study)
             if check(proc.returncode == 0, f"{workers} worker(s): the driver succeeds", proc.stderr):
                 outs[workers] = error_figures(out)
             if flaky:
@@ -160,7 +122,7 @@ def main():
         os.remove(marker)
         always = os.path.join(tmp, "always")
         proc = driver(always, ["--workers", "2", "--retries", "1", *SETTINGS],
-                      {"OAS_STUDY_TEST_FAIL_ONLY": "BoseCMJ", "OAS_STUDY_TEST_FAIL_MODE": "always"}, wrapper)
+                      {"OAS_TEST_FAIL_VALUE": "BoseCMJ", "OAS_TEST_FAIL_MODE": "always"}, wrapper)
         check(proc.returncode == 1 and "injected failure" in proc.stderr, "exit 1 quoting the task's stderr",
               proc.stderr)
         tries = open(marker).read().split() if os.path.exists(marker) else []
@@ -182,10 +144,7 @@ def main():
                 if name.startswith(("oas-task-", "oas-study-cluster-"))]
         check(not left, "no temporary folder left behind", str(left))
 
-    if failures:
-        print(f"FAILED: {len(failures)} check(s): " + "; ".join(failures))
-        sys.exit(1)
-    print("all checks passed")
+    finish()
 
 
 if __name__ == "__main__":
