@@ -6,7 +6,8 @@
                              [--study-md FILE] [--scenes-dir DIR] [--scene NAME ...]
                              [--only LABEL ...] [--quick] [other oas-study scene options]
 
-(`scripts/study.sh --workers W` or `--scheduler ADDR` runs this, then the study's other parts.)
+(`scripts/study.sh --workers W` or `--scheduler ADDR` runs this, and only this: the other parts,
+scene-costs included, run on one machine with `scripts/study.sh --parts ...` as usual.)
 
 The work is cut the same way whatever the number of workers, so that the error figures do not
 depend on it: per scene, one task renders the reference and Sobol's points

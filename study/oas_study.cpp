@@ -240,7 +240,7 @@ int main(int argc, char** argv)
     app.add_option("--scene-max-rare-renders", sceneMaxRareRenders,
                    "most renders of the rare pixels per point (quick 1024, full 16384)")
         ->check(CLI::Range(32u, 1u << 20));
-    app.add_option("--reference-spp", referenceSpp, "scene reference spp (default: 16 x the scene's largest count)")
+    app.add_option("--reference-spp", referenceSpp, "scene reference spp (default: the smallest power of two from 256 that is at least 16 x the scene's largest count, at most 2^24; STUDY.md states the ratio)")
         ->check(CLI::Range(256u, 1u << 24));
     app.add_flag("--scene-top-up", sceneTopUp,
                  "add renders to the chosen scenes' earlier measurements (same settings and reference; a larger "
@@ -394,7 +394,7 @@ int main(int argc, char** argv)
             so.scenes = sceneNames;
             so.width = sceneWidth ? sceneWidth : (quick ? 32 : 64);
             so.maxSpp = sceneMaxSpp ? sceneMaxSpp : (quick ? 256 : 1024);
-            so.referenceSpp = referenceSpp;  // 0: 16 x the scene's largest count
+            so.referenceSpp = referenceSpp;  // 0: a power of two >= 16 x the scene's largest count
             so.paperHighSpp = std::uint32_t(scenePaperSpp >= 0 ? scenePaperSpp : (quick ? 0 : 4096));
             // Adaptive n per point (see SceneStudyOptions): quick mode keeps a small cap so that it
             // stays at minutes; the cap is marked wherever it is hit.

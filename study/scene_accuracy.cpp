@@ -29,12 +29,8 @@
 namespace oas::study {
 
 using detail::costsIn;
-using detail::curvesOfRecords;
-using detail::kEqualTimeColumns;
 using detail::readEqualTimeRows;
-using detail::samplerRank;
-using detail::sceneRank;
-using detail::writeCurves;
+using detail::writeSceneData;
 
 namespace {
 
@@ -503,19 +499,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             (!isFresh(row[0]) || (isJoined(row[0]) && (o.topUp || !isFreshSampler(row[0], row[1])))))
             eqRows.push_back(row);
     eqRows.insert(eqRows.end(), freshEq.begin(), freshEq.end());
-    // Scene order, then table order (a joined shard's rows would otherwise come last).
-    std::stable_sort(eqRows.begin(), eqRows.end(), [&](const auto& a, const auto& b) {
-        return std::make_pair(sceneRank(a[0]), samplerRank(a[1])) < std::make_pair(sceneRank(b[0]), samplerRank(b[1]));
-    });
-    CsvTable mergedEq(kEqualTimeColumns);
-    for (const auto& row : eqRows) mergedEq.add(row);
-    writeSceneMeasurements(csvPath, mergedMeasurements);
-    writeSceneRecords(refPath, mergedRecords);
-    mergedEq.write(eqPath);
-    const auto writtenRecords = readSceneRecords(refPath);
-    const auto writtenMeasurements = readSceneMeasurements(csvPath);
-    writeCurves(o.outDir + "/scene_curves.csv", curvesOfRecords(writtenRecords, writtenMeasurements));
-    return sceneSection(writtenRecords, writtenMeasurements, samplers, costsIn(o.outDir));
+    return writeSceneData(o.outDir, mergedRecords, mergedMeasurements, std::move(eqRows), samplers);
 }
 
 }  // namespace oas::study

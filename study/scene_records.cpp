@@ -24,6 +24,7 @@ using detail::readEqualTimeRows;
 using detail::samplerRank;
 using detail::sceneRank;
 using detail::writeCurves;
+using detail::writeSceneData;
 
 namespace detail {
 
@@ -325,6 +326,26 @@ SceneRecord joinShardRecord(const SceneRecord& kept, const SceneRecord& fresh)
     return r;
 }
 
+std::string detail::writeSceneData(const std::string& outDir, const std::vector<SceneRecord>& records,
+                           const std::vector<SceneMeasurement>& measurements,
+                           std::vector<std::vector<std::string>> equalTimeRows, const std::vector<SamplerSpec>& samplers)
+{
+    const std::string refPath = outDir + "/scene_references.csv", csvPath = outDir + "/scenes.csv";
+    // Scene order, then table order (a joined shard's rows would otherwise come last).
+    std::stable_sort(equalTimeRows.begin(), equalTimeRows.end(), [&](const auto& a, const auto& b) {
+        return std::make_pair(sceneRank(a[0]), samplerRank(a[1])) < std::make_pair(sceneRank(b[0]), samplerRank(b[1]));
+    });
+    CsvTable equalTime(kEqualTimeColumns);
+    for (const auto& row : equalTimeRows) equalTime.add(row);
+    writeSceneMeasurements(csvPath, measurements);
+    writeSceneRecords(refPath, records);
+    equalTime.write(outDir + "/scene_equal_time.csv");
+    const auto writtenRecords = readSceneRecords(refPath);
+    const auto writtenMeasurements = readSceneMeasurements(csvPath);
+    writeCurves(outDir + "/scene_curves.csv", curvesOfRecords(writtenRecords, writtenMeasurements));
+    return sceneSection(writtenRecords, writtenMeasurements, samplers, costsIn(outDir));
+}
+
 std::string sceneSectionFromFiles(const std::string& outDir, const std::vector<SamplerSpec>& samplers)
 {
     const std::string refPath = outDir + "/scene_references.csv", csvPath = outDir + "/scenes.csv";
@@ -400,18 +421,7 @@ std::string mergeSceneShards(const std::string& outDir, const std::string& baseD
                 kept.push_back(row);
         eqRows.insert(eqRows.begin(), kept.begin(), kept.end());
     }
-    std::stable_sort(eqRows.begin(), eqRows.end(), [&](const auto& a, const auto& b) {
-        return std::make_pair(sceneRank(a[0]), samplerRank(a[1])) < std::make_pair(sceneRank(b[0]), samplerRank(b[1]));
-    });
-    CsvTable eq(kEqualTimeColumns);
-    for (const auto& row : eqRows) eq.add(row);
-    writeSceneMeasurements(csvPath, measurements);
-    writeSceneRecords(refPath, joined);
-    eq.write(eqPath);
-    const auto writtenRecords = readSceneRecords(refPath);
-    const auto writtenMeasurements = readSceneMeasurements(csvPath);
-    writeCurves(outDir + "/scene_curves.csv", curvesOfRecords(writtenRecords, writtenMeasurements));
-    return sceneSection(writtenRecords, writtenMeasurements, samplers, costsIn(outDir));
+    return writeSceneData(outDir, joined, measurements, std::move(eqRows), samplers);
 }
 
 }  // namespace oas::study
