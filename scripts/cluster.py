@@ -239,6 +239,22 @@ def fail(message, status=2):
     sys.exit(status)
 
 
+def worker_options(args):
+    """Checks --workers and --retries; returns --worker-env's NAME=VALUE items as a dict. Shared by
+    the frame and study drivers; raises UsageError."""
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers {args.workers}: valid at least 1")
+    if args.retries < 0:
+        raise UsageError(f"--retries {args.retries}: valid at least 0")
+    env_extra = {}
+    for item in args.worker_env:
+        name, eq, value = item.partition("=")
+        if not eq or not name:
+            raise UsageError(f"--worker-env {item!r}: valid NAME=VALUE")
+        env_extra[name] = value
+    return env_extra
+
+
 def resolve_program(value, what, local):
     """An absolute path for a program (a bare name is looked up in PATH). With local, it must exist
     and be executable here."""
@@ -320,20 +336,14 @@ def main(argv):
     args = parse_args(argv)
     if args.shards < 1:
         fail(f"--shards {args.shards}: valid 1 .. N (the frame's samples per pixel)")
-    if args.workers is not None and args.workers < 1:
-        fail(f"--workers {args.workers}: valid at least 1")
-    if args.retries < 0:
-        fail(f"--retries {args.retries}: valid at least 0")
+    try:
+        env_extra = worker_options(args)
+    except UsageError as e:
+        fail(str(e))
     for option in args.passthrough:
         name = option.split("=", 1)[0]
         if name in ("--samples", "--explain"):
             fail(f"{name} is the driver's own: it gives every shard its --samples range")
-    env_extra = {}
-    for item in args.worker_env:
-        name, eq, value = item.partition("=")
-        if not eq or not name:
-            fail(f"--worker-env {item!r}: valid NAME=VALUE")
-        env_extra[name] = value
     if not os.path.isfile(args.scene):
         fail(f"scene file {args.scene} does not exist" if not os.path.exists(args.scene)
              else f"scene {args.scene} is not a file")

@@ -149,16 +149,10 @@ def unpack(data, folder):
 
 def main(argv):
     args = parse_args(argv)
-    if args.workers is not None and args.workers < 1:
-        fail(f"--workers {args.workers}: valid at least 1")
-    if args.retries < 0:
-        fail(f"--retries {args.retries}: valid at least 0")
-    env_extra = {}
-    for item in args.worker_env:
-        name, eq, value = item.partition("=")
-        if not eq or not name:
-            fail(f"--worker-env {item!r}: valid NAME=VALUE")
-        env_extra[name] = value
+    try:
+        env_extra = cluster.worker_options(args)
+    except cluster.UsageError as e:
+        fail(str(e))
     if not os.path.isdir(args.scenes_dir):
         fail(f"--scenes-dir {args.scenes_dir}: not a folder")
     for name in args.scene:
