@@ -3,7 +3,11 @@
 // each scene with and without its optional effects (absent effects are specialised away, so
 // "without" is the compiled-out speed). OA and independent renders alternate, `--repeats` times,
 // and the ratio is the median of the per-repeat ratios, so load from other processes on a shared
-// machine cancels. Prints figures; asserts nothing.
+// machine cancels. GPU renders dispatch the samples in batches as oas-render does (samplesPerBatch).
+// --profile breaks each scene's GPU frame down by elimination instead: the same kernel with its
+// work per sample removed in steps (pt_render.comp's PT_STAGE, the plan cut to first hits), with
+// and without the scene-feature specialisation, at 1 and 8 samples per dispatch.
+// Prints figures; asserts nothing.
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
@@ -19,6 +23,10 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// The scenes and sample counts every table uses (the paper's 121 = 11^2; the deep scene at 64).
+const std::pair<const char*, std::uint32_t> kBenchScenes[] = {
+    {"cornell7d.json", 121u}, {"blue_spheres9d.json", 121u}, {"interior_deep.json", 64u}};
 
 struct Result {
     double mpaths;
@@ -43,19 +51,36 @@ struct Setup {
     }
 };
 
-Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const std::string& sampler, std::uint32_t spp)
+/// One GPU variant of a render: the kernel's stage, samples per dispatch, and a change to the
+/// plan's effects (the profile's eliminations; the default is the plain render).
+struct Variant {
+    oas::render::KernelStage stage = oas::render::KernelStage::PathTrace;
+    bool specialiseSceneFeatures = true;
+    std::uint32_t perDispatch = 0;  ///< samples per pixel per dispatch; 0: as oas-render (samplesPerBatch)
+    bool primaryHitOnly = false;  ///< maxDepth 1, no light sampling: camera rays to their first hit
+};
+
+Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const std::string& sampler, std::uint32_t spp,
+               const Variant& variant = {})
 {
-    const Setup setup(scene, sampler, spp);
+    Setup setup(scene, sampler, spp);
+    if (variant.primaryHitOnly) {
+        setup.plan.maxDepth = 1;
+        setup.plan.nee = setup.plan.mis = false;
+    }
     const auto& [plan, data, pattern] = setup;
-    oas::render::GpuTracer tracer(context, data, plan, pattern);  // pipeline compile: not timed
+    oas::render::GpuTracer tracer(context, data, plan, pattern,
+                                  {variant.stage, variant.specialiseSceneFeatures});  // pipeline compile: not timed
     oas::render::SampleBatch batch;
     batch.width = scene.width;
     batch.height = scene.height;
     batch.count = 1;
     tracer.trace(batch);  // warm-up
     const auto start = Clock::now();
-    for (std::uint32_t i = 0; i < spp; ++i) {
+    const std::uint32_t perDispatch = variant.perDispatch ? variant.perDispatch : oas::render::samplesPerBatch(plan);
+    for (std::uint32_t i = 0; i < spp; i += batch.count) {
         batch.firstSample = i;
+        batch.count = std::min(perDispatch, spp - i);
         tracer.trace(batch);
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -110,6 +135,46 @@ Pair alternate(int repeats, Measure&& measureOne)
     return p;
 }
 
+/// The frame's time by elimination, per scene: each variant alternated with the others `repeats`
+/// times (medians), as milliseconds per frame of `spp` samples and as a share of the full render.
+void profile(oas::vk::Context& context, const oas::scene::Scene& scene, std::uint32_t spp, int repeats)
+{
+    using oas::render::KernelStage;
+    struct Row {
+        const char* label;
+        const char* sampler;
+        Variant variant;
+        std::vector<double> ms;
+    };
+    const std::uint32_t batched = 8;
+    auto variant = [](KernelStage stage, std::uint32_t perDispatch = 1, bool primaryHitOnly = false,
+                      bool specialise = true) { return Variant{stage, specialise, perDispatch, primaryHitOnly}; };
+    std::vector<Row> rows = {
+        {"path tracer, OA (1 spp per dispatch)", "oa", variant(KernelStage::PathTrace), {}},
+        {"  with every shape/material/light type", "oa", variant(KernelStage::PathTrace, 1, false, false), {}},
+        {"path tracer, independent", "random", variant(KernelStage::PathTrace), {}},
+        {"path tracer, OA, 8 spp per dispatch", "oa", variant(KernelStage::PathTrace, batched), {}},
+        {"camera rays to first hit only, OA", "oa", variant(KernelStage::PathTrace, 1, true), {}},
+        {"sample fetches only, OA", "oa", variant(KernelStage::FetchesOnly), {}},
+        {"sample fetches only, independent", "random", variant(KernelStage::FetchesOnly), {}},
+        {"nothing (dispatch + accumulation)", "oa", variant(KernelStage::Nothing), {}},
+        {"nothing, 8 spp per dispatch", "oa", variant(KernelStage::Nothing, batched), {}},
+    };
+    for (int r = 0; r < repeats; ++r)
+        for (auto& row : rows) {
+            const Result m = measure(context, scene, row.sampler, spp, row.variant);
+            row.ms.push_back(double(scene.width) * scene.height * spp / (m.mpaths * 1e6) * 1e3);
+        }
+    const double full = median(rows[0].ms);
+    std::printf("\nprofile of %s, %ux%u, %u spp (ms per frame, median of %d; share of the OA path tracer's frame)\n",
+                scene.name.c_str(), scene.width, scene.height, spp, repeats);
+    for (const auto& row : rows) {
+        const double ms = median(row.ms);
+        std::printf("  %-42s %10.1f ms  %6.3f\n", row.label, ms, ms / full);
+    }
+    std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -118,7 +183,7 @@ int main(int argc, char** argv)
     std::string scenesDir = "scenes", only;
     std::uint32_t size = 128;
     int repeats = 1;
-    bool cpu = false, noGpu = false, noEffects = false;
+    bool cpu = false, noGpu = false, noEffects = false, profileFrames = false;
     app.add_option("--scenes", scenesDir, "scene directory");
     app.add_option("--size", size, "render width (height keeps the aspect)")->check(CLI::Range(8u, 4096u));
     app.add_option("--repeats", repeats, "OA/independent alternations per figure (medians)")->check(CLI::Range(1, 50));
@@ -126,6 +191,9 @@ int main(int argc, char** argv)
     app.add_flag("--cpu", cpu, "also measure the CPU reference tracer (all cores)");
     app.add_flag("--no-gpu", noGpu, "skip the GPU figures (with --cpu: CPU only)");
     app.add_flag("--no-effects", noEffects, "skip the effect-cost table");
+    app.add_flag("--profile", profileFrames,
+                 "GPU only: each scene's frame time by elimination (no tracing, fetches only, first hits only, "
+                 "samples per dispatch) instead of the tables");
     CLI11_PARSE(app, argc, argv);
     std::unique_ptr<oas::vk::Context> context;
     if (!noGpu) {
@@ -141,10 +209,19 @@ int main(int argc, char** argv)
         s.width = size;
         return s;
     };
+    if (profileFrames) {
+        if (!context) {
+            std::fprintf(stderr, "oas-render-bench: --profile needs the GPU (drop --no-gpu)\n");
+            return 2;
+        }
+        for (const auto& [name, spp] : kBenchScenes)
+            if (only.empty() || std::string(name).find(only) != std::string::npos)
+                profile(*context, load(name), spp, repeats);
+        return 0;
+    }
     std::printf("\n%-18s %-4s %5s %6s %12s %12s %10s %10s %10s\n", "scene", "dev", "dims", "spp", "OA Mpaths/s",
                 "rnd Mpaths/s", "OA/random", "OA build", "rnd build");
-    for (const auto& [name, spp] : {std::pair{"cornell7d.json", 121u}, {"blue_spheres9d.json", 121u},
-                                    {"interior_deep.json", 64u}}) {
+    for (const auto& [name, spp] : kBenchScenes) {
         if (!only.empty() && std::string(name).find(only) == std::string::npos) continue;
         const auto scene = load(name);
         if (context) {

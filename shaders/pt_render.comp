@@ -37,6 +37,19 @@ layout(constant_id = 27) const uint PT_OFF_BSDF_UV = PT_ABSENT;
 layout(constant_id = 28) const uint PT_OFF_LOBE = PT_ABSENT;
 layout(constant_id = 29) const uint PT_OFF_RR = PT_ABSENT;
 
+// Profile by elimination (oas-render-bench --profile): what the kernel does per sample.
+// 0: the path tracer; 1: nothing (dispatch, bounds test and accumulation only); 2: the sample
+// fetches alone (every dimension group a path of PT_MAX_DEPTH vertices draws, summed, so the
+// compiler keeps them). Renders always use 0, and the other branches compile away.
+layout(constant_id = 30) const uint PT_STAGE = 0u;
+// The scene's features (host/render/scene_data.hpp SceneFeatures; pt/pt_trace.glsl).
+#define PT_SCENE_FEATURES
+layout(constant_id = 31) const bool PT_HAS_SPHERES = true;
+layout(constant_id = 32) const bool PT_HAS_QUADS = true;
+layout(constant_id = 33) const bool PT_HAS_TRIANGLES = true;
+layout(constant_id = 34) const bool PT_HAS_CONDUCTORS = true;
+layout(constant_id = 35) const bool PT_HAS_POINT_LIGHTS = true;
+
 #include "pt/pt_types.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -70,6 +83,18 @@ OasPattern pt_pattern() { return params.pattern; }
 #include "pt/pt_trace.glsl"
 #include "pt/pt_accumulate.glsl"
 
+/// PT_STAGE 2: the dimensions one path draws, without tracing it (a "radiance" that keeps the
+/// fetches alive and is summable).
+vec3 pt_stage_fetches_only(PtSampleState st)
+{
+    float total = 0.0f;
+    for (uint v = 0u; v <= PT_MAX_DEPTH; ++v) {
+        PtDims d = pt_group_dims(st, v == 0u ? 0u : pt_vertex_dim(v, 0u), v == 0u ? pt_camera_dims_used() : pt_vertex_dims_used());
+        [[unroll]] for (uint k = 0u; k < PT_GROUP_MAX; ++k) total += d.u[k];
+    }
+    return vec3(total);
+}
+
 void main()
 {
     if (gl_GlobalInvocationID.x >= params.tileWidth || gl_GlobalInvocationID.y >= params.tileHeight) return;
@@ -81,7 +106,7 @@ void main()
     uint rejected = 0u;
     for (uint i = 0u; i < params.sampleCount; ++i) {
         st.index = params.firstSample + i;
-        vec3 l = pt_radiance(st, px, py);
+        vec3 l = PT_STAGE == 0u ? pt_radiance(st, px, py) : (PT_STAGE == 2u ? pt_stage_fetches_only(st) : vec3(0.0f));
         if (pt_summable(l))
             sum = pt_sum_add(sum, pt_sum_of(l));
         else

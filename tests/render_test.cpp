@@ -385,6 +385,38 @@ TEST_F(RenderGpu, AgreesWithTheCpuReference)
     EXPECT_LE(far, cpu.pixelCount() * 3 / 100) << "pixels differing by more than 2%";
 }
 
+TEST_F(RenderGpu, SceneFeatureSpecialisationKeepsEverySumBitForBit)
+{
+    // The kernel compiles away the shape types, conductor materials and point/spot lights a scene
+    // lacks (pt_trace.glsl, PT_SCENE_FEATURES). The code that remains is the same, so every shipped
+    // scene, which between them have every feature and lack each of them somewhere, gives the same
+    // exact sums, word for word, with and without the specialisation.
+    bool sawSpecialised = false;
+    for (const char* name : {"cornell7d.json", "blue_spheres9d.json", "interior_deep.json", "furnace.json",
+                             "plane_rect_light.json", "mesh_demo.json"}) {
+        auto s = loadTestScene(name);
+        s.height = std::max(1u, s.height * 16 / s.width);
+        s.width = 16;
+        const auto plan = render::planDimensions(s);
+        const auto data = render::flattenScene(s);
+        const auto f = render::sceneFeatures(data);
+        sawSpecialised |= !(f.spheres && f.quads && f.triangles && f.conductors && f.pointLights);
+        const auto pattern = patternFor(s, plan, 16);
+        auto [batch, unused] = wholeImage(s, 16, 7);
+        render::GpuTracer specialised(context(), data, plan, pattern);
+        render::GpuTracer everything(context(), data, plan, pattern, {render::KernelStage::PathTrace, false});
+        specialised.trace(batch);
+        everything.trace(batch);
+        const auto a = specialised.accumulation(), b = everything.accumulation();
+        ASSERT_EQ(a.words.size(), b.words.size()) << name;
+        EXPECT_TRUE(a.words == b.words) << name << ": the specialised kernel's sums differ";
+        double total = 0;
+        for (std::size_t i = 0; i < a.pixelCount(); ++i) total += render::meanValue(a.pixel(i), 0);
+        EXPECT_GT(total, 0.0) << name << " renders black: the comparison would prove nothing";
+    }
+    EXPECT_TRUE(sawSpecialised) << "no shipped scene lacks a feature: the test compares a kernel with itself";
+}
+
 TEST_F(RenderGpu, RejectsNonFiniteNegativeAndHugeSamples)
 {
     // With the light's radiance NaN, negative or 1e30 (>= 2^64) in the flattened scene (the loader

@@ -105,4 +105,17 @@ SceneData flattenScene(const scene::Scene& sc)
     return data;
 }
 
+SceneFeatures sceneFeatures(const SceneData& data)
+{
+    SceneFeatures f;
+    for (const auto& shape : data.shapes) {
+        f.spheres |= shape.e.x == pt::PT_SHAPE_SPHERE;
+        f.quads |= shape.e.x == pt::PT_SHAPE_QUAD;
+        f.triangles |= shape.e.x == pt::PT_SHAPE_TRIANGLE;
+    }
+    for (const auto& material : data.materials) f.conductors |= material.albedo.w == pt::PT_MAT_CONDUCTOR;
+    for (const auto& light : data.lights) f.pointLights |= light.position.w != pt::PT_LIGHT_AREA;
+    return f;
+}
+
 }  // namespace oas::render

@@ -16,6 +16,15 @@ struct SceneData {
     pt::PtGlobals globals{};
 };
 
+/// What the flattened scene contains, for the GPU kernel's specialization (pt_trace.glsl,
+/// PT_SCENE_FEATURES): code for what is absent compiles away.
+struct SceneFeatures {
+    bool spheres = false, quads = false, triangles = false;
+    bool conductors = false;   ///< conductor materials (smooth or GGX)
+    bool pointLights = false;  ///< point or spot lights (area lights are emissive shapes)
+};
+SceneFeatures sceneFeatures(const SceneData& data);
+
 /// Flattens the scene; the BVH bounds cover each shape's motion over the shutter interval.
 SceneData flattenScene(const scene::Scene& scene);
 

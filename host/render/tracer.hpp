@@ -83,9 +83,23 @@ glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const P
                        std::uint32_t sampleIndex, std::uint32_t vertex, std::uint32_t material, glm::vec3 x,
                        glm::vec3 n, glm::vec3 wo, float time = 0.0f);
 
+/// What the GPU kernel does per sample (pt_render.comp's PT_STAGE): the path tracer, or for
+/// oas-render-bench --profile's breakdown by elimination, nothing (dispatch and accumulation alone)
+/// or the sample fetches alone.
+enum class KernelStage : std::uint32_t { PathTrace = 0, Nothing = 1, FetchesOnly = 2 };
+
+/// How the GPU kernel is specialised; renders use the defaults, oas-render-bench varies them.
+struct GpuTracerOptions {
+    KernelStage stage = KernelStage::PathTrace;
+    /// Compile away the code of shape types, materials and lights the scene lacks (same images);
+    /// false keeps all of it, the kernel before this specialisation (the benchmark's baseline).
+    bool specialiseSceneFeatures = true;
+};
+
 class GpuTracer {
 public:
-    GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern);
+    GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,
+              const GpuTracerOptions& options = {});
     ~GpuTracer();
     /// Dispatches the batch (the whole rectangle in one dispatch) and waits.
     void trace(const SampleBatch& batch);

@@ -26,16 +26,21 @@ std::unique_ptr<vk::Buffer> upload(vk::Context& context, const std::vector<T>& i
 
 }  // namespace
 
-GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern)
+GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,
+                     const GpuTracerOptions& options)
     : context_(context), pattern_(pattern), width_(std::uint32_t(data.globals.image.x)),
       height_(std::uint32_t(data.globals.image.y))
 {
+    SceneFeatures features{true, true, true, true, true};
+    if (options.specialiseSceneFeatures) features = sceneFeatures(data);
     const vk::ComputePipeline::SpecConstants spec = {
         {0, pattern.construction}, {1, pattern.offset}, {2, oas::fieldKind(pattern)},
         {10, plan.hasLens}, {11, plan.hasMotion}, {12, plan.nee}, {13, plan.mis}, {14, plan.lobe != kAbsent},
         {15, plan.maxDepth}, {16, plan.roulette != kAbsent ? plan.rouletteStart : 0u},
         {20, plan.pixel}, {21, plan.lens}, {22, plan.time}, {23, plan.vertexBase}, {24, plan.vertexStride},
-        {25, plan.lightSelect}, {26, plan.lightUV}, {27, plan.bsdfUV}, {28, plan.lobe}, {29, plan.roulette}};
+        {25, plan.lightSelect}, {26, plan.lightUV}, {27, plan.bsdfUV}, {28, plan.lobe}, {29, plan.roulette},
+        {30, std::uint32_t(options.stage)}, {31, features.spheres}, {32, features.quads}, {33, features.triangles},
+        {34, features.conductors}, {35, features.pointLights}};
     const auto buildStart = std::chrono::steady_clock::now();
     pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 7,
                                                       std::uint32_t(sizeof(RenderParams)), spec);

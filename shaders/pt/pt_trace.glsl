@@ -16,6 +16,20 @@
 #ifndef PT_TRACE_GLSL
 #define PT_TRACE_GLSL
 
+// The scene's features: which shape types, conductor materials and point/spot lights it has.
+// Lavapipe runs both sides of every branch (its lanes are predicated, not branched), so each
+// shape test paid for the sphere, quad and triangle code, whatever the shape. The GPU kernel
+// defines PT_SCENE_FEATURES and receives them as specialization constants, so a feature the scene
+// lacks compiles away; the code for a feature that is present is unchanged, and so are the
+// images. The CPU tracer, which branches for real, keeps every path.
+#ifndef PT_SCENE_FEATURES
+const bool PT_HAS_SPHERES = true;
+const bool PT_HAS_QUADS = true;
+const bool PT_HAS_TRIANGLES = true;
+const bool PT_HAS_CONDUCTORS = true;
+const bool PT_HAS_POINT_LIGHTS = true;
+#endif
+
 const float PT_PI = 3.14159265358979f;
 const float PT_INF = 1e30f;
 const uint PT_NONE = 0xffffffffu;
@@ -105,7 +119,7 @@ float pt_intersect_shape(PtShape s, vec3 o, vec3 d, float time, float tMin, floa
 {
     vec3 shift = vec3(s.d) * time;
     uint type = pt_shape_type(s);
-    if (type == 0u) {
+    if (PT_HAS_SPHERES && type == 0u) {
         vec3 oc = o - (vec3(s.a) + shift);
         float r = s.a.w;
         float b = dot(oc, d);
@@ -119,7 +133,7 @@ float pt_intersect_shape(PtShape s, vec3 o, vec3 d, float time, float tMin, floa
         if (t1 > tMin && t1 < tMax) return t1;
         return PT_INF;
     }
-    if (type == 1u) {
+    if (PT_HAS_QUADS && type == 1u) {
         vec3 corner = vec3(s.a) + shift;
         vec3 eu = vec3(s.b);
         vec3 ev = vec3(s.c);
@@ -134,6 +148,7 @@ float pt_intersect_shape(PtShape s, vec3 o, vec3 d, float time, float tMin, floa
         float b = dot(cross(eu, p), n) / nn;
         return (a >= 0.0f && a <= 1.0f && b >= 0.0f && b <= 1.0f) ? t : PT_INF;
     }
+    if (!PT_HAS_TRIANGLES) return PT_INF;
     // Triangle (Moller and Trumbore 1997).
     vec3 p0 = vec3(s.a) + shift;
     vec3 e1 = vec3(s.b) - vec3(s.a);
@@ -156,8 +171,8 @@ float pt_intersect_shape(PtShape s, vec3 o, vec3 d, float time, float tMin, floa
 vec3 pt_shape_normal(PtShape s, vec3 p, float time)
 {
     uint type = pt_shape_type(s);
-    if (type == 0u) return normalize(p - (vec3(s.a) + vec3(s.d) * time));
-    if (type == 1u) return normalize(cross(vec3(s.b), vec3(s.c)));
+    if (PT_HAS_SPHERES && type == 0u) return normalize(p - (vec3(s.a) + vec3(s.d) * time));
+    if (!PT_HAS_TRIANGLES || (PT_HAS_QUADS && type == 1u)) return normalize(cross(vec3(s.b), vec3(s.c)));
     return normalize(cross(vec3(s.b) - vec3(s.a), vec3(s.c) - vec3(s.a)));
 }
 
@@ -309,7 +324,7 @@ PtBsdfEval pt_bsdf_eval(PtMaterial m, vec3 n, vec3 wo, vec3 wi)
     float cosI = dot(n, wi);
     float cosO = dot(n, wo);
     if (cosI <= 0.0f || cosO <= 0.0f) return e;
-    if (m.albedo.w == PT_MAT_DIFFUSE) {
+    if (!(PT_HAS_CONDUCTORS || PT_HAS_DIELECTRIC) || m.albedo.w == PT_MAT_DIFFUSE) {
         e.fCos = vec3(m.albedo) * (cosI / PT_PI);
         e.pdf = cosI / PT_PI;
         return e;
@@ -346,7 +361,7 @@ PtBsdfSample pt_bsdf_sample(PtMaterial m, vec3 ng, vec3 wo, float u1, float u2, 
     vec3 n = outside ? ng : -ng;
     float cosO = dot(n, wo);
     float alpha = m.emission.w;
-    if (m.albedo.w == PT_MAT_DIFFUSE) {
+    if (!(PT_HAS_CONDUCTORS || PT_HAS_DIELECTRIC) || m.albedo.w == PT_MAT_DIFFUSE) {
         float r = sqrt(u1);
         float phi = 2.0f * PT_PI * u2;
         s.wi = pt_to_world(vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0f, 1.0f - u1))), n);
@@ -355,7 +370,7 @@ PtBsdfSample pt_bsdf_sample(PtMaterial m, vec3 ng, vec3 wo, float u1, float u2, 
         s.valid = s.pdf > 0.0f;
         return s;
     }
-    if (m.albedo.w == PT_MAT_CONDUCTOR) {
+    if (PT_HAS_CONDUCTORS && (!PT_HAS_DIELECTRIC || m.albedo.w == PT_MAT_CONDUCTOR)) {
         if (alpha < PT_SMOOTH_ALPHA) {
             s.wi = reflect(-wo, n);
             s.weight = pt_schlick(vec3(m.albedo), cosO);
@@ -437,7 +452,7 @@ vec3 pt_next_event(PtDims d, PtMaterial m, vec3 x, vec3 n, vec3 wo, float time)
     PtLight light = pt_light(li);
     float eps = pt_epsilon(x);
     vec3 origin = x + n * eps;
-    if (light.position.w != PT_LIGHT_AREA) {
+    if (PT_HAS_POINT_LIGHTS && light.position.w != PT_LIGHT_AREA) {
         vec3 toL = vec3(light.position) - origin;
         float dist2 = dot(toL, toL);
         vec3 wi = toL / sqrt(dist2);
@@ -461,12 +476,12 @@ vec3 pt_next_event(PtDims d, PtMaterial m, vec3 x, vec3 n, vec3 wo, float time)
     vec3 shift = vec3(s.d) * time;
     vec3 p;
     uint type = pt_shape_type(s);
-    if (type == 0u) {
+    if (PT_HAS_SPHERES && type == 0u) {
         float z = 1.0f - 2.0f * u1;
         float r = sqrt(max(0.0f, 1.0f - z * z));
         float phi = 2.0f * PT_PI * u2;
         p = vec3(s.a) + shift + vec3(r * cos(phi), r * sin(phi), z) * s.a.w;
-    } else if (type == 1u) {
+    } else if (!PT_HAS_TRIANGLES || (PT_HAS_QUADS && type == 1u)) {
         p = vec3(s.a) + shift + vec3(s.b) * u1 + vec3(s.c) * u2;
     } else {
         float su = sqrt(u1);
