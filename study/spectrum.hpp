@@ -10,6 +10,7 @@
 
 #include "experiment.hpp"
 #include "oas/pattern.hpp"
+#include "oas/periodogram.hpp"
 #include "stats.hpp"
 
 namespace oas::study {
@@ -34,12 +35,6 @@ struct Spectrum {
 /// Throws std::invalid_argument for radius < 0, randomizations == 0 or an empty pattern.
 Spectrum powerSpectrum(const oas::Pattern& pattern, std::uint32_t dimA, std::uint32_t dimB,
                        std::uint32_t randomizations, int radius, std::uint32_t userSeed, unsigned threads);
-
-/// Adds the periodogram |sum_j exp(-2 pi i k.x_j)|^2 / n of the n points x_j = (xs[j], ys[j]) to
-/// acc, for every integer k in [-radius, radius]^2 (acc: (2 radius + 1)^2 values, row-major as in
-/// Spectrum; the DC term is included). powerSpectrum sums it over randomizations; oas-view shows it
-/// for the points the GPU made.
-void addPeriodogram(const float* xs, const float* ys, std::uint32_t n, int radius, std::vector<double>& acc);
 
 /// Mean power over the frequencies k != 0 with kLow <= |k| < kHigh (Euclidean |k|); 0 if none.
 double radialMean(const Spectrum& s, double kLow, double kHigh);

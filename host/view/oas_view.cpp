@@ -39,13 +39,13 @@
 #include "oas/atomic_file.hpp"
 #include "oas/generate_gpu.hpp"
 #include "oas/pattern.hpp"
+#include "oas/periodogram.hpp"
 #include "render/plan.hpp"
 #include "render/render_file.hpp"
 #include "render/scene_data.hpp"
 #include "render/scene_pattern.hpp"
 #include "render/tracer.hpp"
 #include "scene/scene.hpp"
-#include "spectrum.hpp"
 #include "view/points_view.hpp"
 #include "view/presenter.hpp"
 
@@ -601,7 +601,7 @@ private:
         std::vector<double> power(std::size_t(2 * kRadius + 1) * (2 * kRadius + 1), 0.0);
         for (std::uint32_t set = 0; set < kSets; ++set) {
             const auto xs = column(set, a), ys = column(set, b);
-            oas::study::addPeriodogram(xs.data(), ys.data(), pattern.N, kRadius, power);
+            oas::addPeriodogram(xs.data(), ys.data(), pattern.N, kRadius, power);
         }
         for (auto& p : power) p /= kSets;
         return oas::view::sideBySide(left, oas::view::drawSpectrum(power, kRadius, size), kGap);
