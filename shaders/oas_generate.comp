@@ -88,6 +88,11 @@ void main()
         for (uint c = 0u; c < groupDims; ++c)
             values[outAt + c] = float(oas_hash3(seed, firstDim + c, index) >> 8u) * OAS_INV_2POW24;
 #else
+    // Not oas_draw, here: its loop over OAS_DRAW_MAX dimensions unrolls, so the sampler would be
+    // compiled in eight times where this run-time loop has it once, for no gain (a baseline has no
+    // state to share across dimensions; the values are the same). The OA path below is the
+    // library's bulk fast path: block and column state once per pass, shared by the run's
+    // samples, which oas_draw (one sample a call) would make again for every sample.
     if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {  // baselines: no per-column state to share
         for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
             for (uint c = 0u; c < groupDims; ++c)

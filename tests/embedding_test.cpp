@@ -327,7 +327,7 @@ TEST(Embedding, LibraryFilesDeclareOnlyPrefixedNamesAndNoInterface)
     ASSERT_FALSE(files.empty()) << "no .glsl files in " << OAS_SHADER_DIR << "/oas";
     std::vector<std::string> fileNames;
     for (auto& f : files) fileNames.push_back(f.filename().string());
-    for (const char* expected : {"oas.glsl", "oas_hash.glsl", "oas_gf.glsl", "oas_pattern.glsl", "oas_oa.glsl", "oas_baselines.glsl"})
+    for (const char* expected : {"oas.glsl", "oas_hash.glsl", "oas_gf.glsl", "oas_pattern.glsl", "oas_oa.glsl", "oas_baselines.glsl", "oas_draw.glsl"})
         EXPECT_NE(std::find(fileNames.begin(), fileNames.end(), expected), fileNames.end()) << expected << " not scanned";
 
     std::vector<Finding> findings;
@@ -340,7 +340,7 @@ TEST(Embedding, LibraryFilesDeclareOnlyPrefixedNamesAndNoInterface)
     EXPECT_TRUE(findings.empty()) << findings.size() << " offender(s):\n" << format(findings);
 
     // The scan must actually see the library's declarations, or a passing scan means nothing.
-    for (const char* name : {"oas_sample", "oas_pixel_seed", "oas_row", "oas_row_dim", "oas_pcg", "oas_permute",
+    for (const char* name : {"oas_sample", "oas_pixel_seed", "oas_row", "oas_row_dim", "oas_pcg", "oas_permute", "oas_draw", "OasDraw", "OAS_DRAW_MAX",
                              "OasPattern", "OasRow", "OasField", "OAS_BOSE", "OAS_INV_2POW24", "OAS_GLSL", "OAS_CONSTRUCTION"})
         EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << "scanner did not see '" << name << "'";
     EXPECT_GE(names.size(), 50u);

@@ -28,14 +28,20 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
             const std::uint32_t y = r.y0 + std::uint32_t(px / r.width);
             const std::uint32_t seed = glsl::oas_pixel_seed(x, y, r.seed);
             float* pixelOut = out + px * r.spp * r.dims;
-            if (pat.construction >= glsl::OAS_RANDOM) {
+            if (pat.construction >= glsl::OAS_RANDOM) {  // baselines: per sample, OAS_DRAW_MAX dims a call
                 float* dst = pixelOut;
                 for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp; ++i)
-                    for (std::uint32_t d = 0; d < r.dims; ++d) *dst++ = glsl::oas_sample(pat, seed, i, d);
+                    for (std::uint32_t d0 = 0; d0 < r.dims; d0 += glsl::OAS_DRAW_MAX) {
+                        const std::uint32_t n = std::min(glsl::OAS_DRAW_MAX, r.dims - d0);
+                        const glsl::OasDraw v = glsl::oas_draw(pat, seed, i, d0, n);
+                        dst = std::copy(v.u, v.u + n, dst);
+                    }
                 continue;
             }
             // The fast path the GPU kernel takes too: block and column state once per pass,
-            // one row computation per (sample, block).
+            // one row computation per (sample, block). Not oas_draw, which is per sample: it makes
+            // the row permutation and column state again for every sample, where this makes them
+            // once for the N samples of a pass (the same values, bit for bit).
             for (std::uint32_t done = 0; done < r.spp;) {
                 const std::uint32_t first = r.firstSample + done;
                 std::uint32_t count = 0;

@@ -41,6 +41,12 @@
 //   float oas_sample(OasPattern p, uint pixelSeed, uint index, uint dim)
 //         Dimension `dim` of sample `index` of the pixel: a pure function, fixed work, in [0, 1)
 //         (never 1.0, never NaN), exactly inside the strata the construction promises.
+//   const uint OAS_DRAW_MAX = 8u;   struct OasDraw { float u[OAS_DRAW_MAX]; };
+//   OasDraw oas_draw(OasPattern p, uint pixelSeed, uint index, uint firstDim, uint dimCount)
+//         Dimensions [firstDim, firstDim + dimCount) of sample `index` at once (dimCount <=
+//         OAS_DRAW_MAX; u[k] = 0 beyond), each bit for bit oas_sample: one row state per
+//         OA block the group touches, shared by its dimensions in that block (oas_draw.glsl). Every
+//         construction and baseline; the call for a renderer's groups (camera ray, path vertex).
 //   The same values, faster, from state made once and reused (the fast path):
 //   OasRow    oas_row(OasPattern p, uint pixelSeed, uint index, uint block)
 //   float     oas_row_dim(OasPattern p, OasRow r, uint col)
@@ -92,10 +98,10 @@
 //     index, 24 Halton digits (15 for any base, 9 more for base 2), 32 bits of a Sobol index. Steps past the pattern's own k, t or digit count are
 //     masked. A value therefore costs the same for every pattern of a kind, and lanes stay in
 //     lock step.
-//   - Fetch the dimensions you need at one call site (a loop over them), not at every use: GPU
-//     compilers inline the whole sampler wherever it is called, which made a path tracer's
-//     pipeline build take 20 s on lavapipe instead of 1.5 s (shaders/pt/pt_trace.glsl,
-//     pt_group_dims).
+//   - Fetch the dimensions you need at one call site, not at every use: one oas_draw per group
+//     of dimensions, in a loop over the groups (shaders/pt/pt_trace.glsl calls it once, for the
+//     camera and every path vertex). GPU compilers inline the whole sampler wherever it is
+//     called, which made a path tracer's pipeline build take 20 s on lavapipe instead of 1.5 s.
 //
 // NUMERIC CONTRACT
 //   Outputs are F * 2^-24 with integer F in [0, 2^24). A point promised to stratum m of K strata
@@ -150,5 +156,7 @@ float oas_sample(OasPattern pat, uint pixelSeed, uint index, uint dim)
     OasRow r = oas_row(pat, pixelSeed, index, block);
     return oas_row_dim(pat, r, dim - block * pat.blockDims);
 }
+
+#include "oas_draw.glsl"
 
 #endif // OAS_GLSL

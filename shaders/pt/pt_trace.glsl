@@ -42,13 +42,9 @@ struct PtSampleState {
 
 
 /// Most dimensions of one group: the camera's (pixel, lens, time: 6 with the alignment gap) or one
-/// path vertex's (light.uv, bsdf.uv, light.select, lobe, roulette: 8 with the gap).
-const uint PT_GROUP_MAX = 8u;
-
-/// The sample dimensions of one group, u[k] = dimension first + k for k < count (0 beyond).
-struct PtDims {
-    float u[PT_GROUP_MAX];
-};
+/// path vertex's (light.uv, bsdf.uv, light.select, lobe, roulette: 8 with the gap). The library's
+/// oas_draw fetches a group; host/render/plan.hpp's kMaxGroupDims is checked against this.
+const uint PT_GROUP_MAX = OAS_DRAW_MAX;
 
 /// Dimensions the camera group uses: pixel, then lens and time where present (not the alignment
 /// gap before the first vertex group).
@@ -69,43 +65,18 @@ uint pt_vertex_dims_used()
     return n;
 }
 
-/// Fetches a whole group at once, straight from the OA library (no sample buffers). pt_radiance
-/// calls this at one site only: the GPU compiler
+/// Fetches a whole group at once, straight from the OA library (no sample buffers): oas_draw, the
+/// library's one sample-fetch call. pt_radiance calls this at one site only: the GPU compiler
 /// inlines the sampler wherever it is called, and with a call per use (a dozen in this file) the
 /// lavapipe pipeline build took ~20 s, against ~0.1 s with the sampler replaced by one hash.
 #ifdef PT_FETCH_GROUP
-// The host's twin supplies its own fetch with the same values (host/render/tracer_cpu.cpp
-// caches the per-pass state across a pixel's samples).
-PtDims pt_group_dims(PtSampleState st, uint first, uint count) { return PT_FETCH_GROUP(st, first, count); }
+// The host's twin may supply its own fetch with the same values (host/render/tracer_cpu.cpp).
+OasDraw pt_group_dims(PtSampleState st, uint first, uint count) { return PT_FETCH_GROUP(st, first, count); }
 #else
-PtDims pt_group_dims(PtSampleState st, uint first, uint count)
+OasDraw pt_group_dims(PtSampleState st, uint first, uint count)
 {
-    PtDims d;
-    for (uint k = 0u; k < PT_GROUP_MAX; ++k) d.u[k] = 0.0f;
-    OasPattern pat = pt_pattern();
-    if (OAS_CONSTRUCTION(pat) >= OAS_RANDOM) {
-        for (uint k = 0u; k < count; ++k) d.u[k] = oas_baseline_sample(pat, st.seed, st.index, first + k);
-        return d;
-    }
-    // The library's fast path: one row state (the block's row permutation) per OA block the group
-    // touches, shared by the group's dimensions in that block; the same values as oas_sample.
-    uint block = first / pat.blockDims;
-    uint col = first - block * pat.blockDims;
-    OasRow row;
-    for (uint k = 0u; k < count; ++k) {
-        if (k == 0u || col == pat.blockDims) {
-            if (k != 0u) {
-                block += 1u;
-                col = 0u;
-            }
-            row = oas_row(pat, st.seed, st.index, block);
-        }
-        d.u[k] = oas_row_dim(pat, row, col);
-        col += 1u;
-    }
-    return d;
+    return oas_draw(pt_pattern(), st.seed, st.index, first, count);
 }
-
 #endif
 
 /// First dimension of vertex v's group (v = 1 is the first surface hit).
@@ -441,7 +412,7 @@ float pt_epsilon(vec3 p) { return 1e-4f * (1.0f + max(max(abs(p.x), abs(p.y)), a
 
 /// Next-event estimation at x (normal n facing wo): one light, chosen uniformly with the
 /// light-select dimension, sampled with the light dimensions; MIS against BSDF sampling.
-vec3 pt_next_event(PtDims d, PtMaterial m, vec3 x, vec3 n, vec3 wo, float time)
+vec3 pt_next_event(OasDraw d, PtMaterial m, vec3 x, vec3 n, vec3 wo, float time)
 {
     PtGlobals g = pt_globals();
     float lightCount = g.time.z;
@@ -527,7 +498,7 @@ vec3 pt_radiance(PtSampleState st, uint px, uint py)
     for (uint v = 0u; v <= PT_MAX_DEPTH + 1u; ++v) {
         uint first = v == 0u ? 0u : pt_vertex_dim(v, 0u);
         uint count = v == 0u ? cameraDims : (v > PT_MAX_DEPTH ? 0u : vertexDims);
-        PtDims d = pt_group_dims(st, first, count);
+        OasDraw d = pt_group_dims(st, first, count);
         if (v == 0u) {
             float sx = (float(px) + d.u[PT_DIM_PIXEL]) / g.image.x * 2.0f - 1.0f;
             float sy = 1.0f - (float(py) + d.u[PT_DIM_PIXEL + 1u]) / g.image.y * 2.0f;
