@@ -89,7 +89,7 @@ vec3 pt_stage_fetches_only(PtSampleState st)
 {
     float total = 0.0f;
     for (uint v = 0u; v <= PT_MAX_DEPTH; ++v) {
-        PtDims d = pt_group_dims(st, v == 0u ? 0u : pt_vertex_dim(v, 0u), v == 0u ? pt_camera_dims_used() : pt_vertex_dims_used());
+        OasDraw d = pt_group_dims(st, v == 0u ? 0u : pt_vertex_dim(v, 0u), v == 0u ? pt_camera_dims_used() : pt_vertex_dims_used());
         [[unroll]] for (uint k = 0u; k < PT_GROUP_MAX; ++k) total += d.u[k];
     }
     return vec3(total);
