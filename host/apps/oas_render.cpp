@@ -4,6 +4,13 @@
 // samples, sampler, plan, seed and time in its header) plus a tone-mapped sRGB PNG.
 // --samples A:B renders only sample indices [A, B) of every pixel: a shard that oas-merge adds to
 // the other shards of the frame, bit for bit the render of their union.
+// --resolution WxH overrides the scene's image size. --cropwindow x0 x1 y0 y1 (pbrt's, fractions
+// of the image) renders only that window's pixels, each bit for bit as in the whole frame, and
+// writes an image of the window alone: a render file must hold the same samples in every pixel
+// (oas-merge and oas-diff rely on it), so the file's oas.resolution is the window's size and
+// oas.cropWindow says where it lies in the frame; crops of one window merge like shards.
+// --threads N sets the CPU tracer's workers (0: all cores); any N gives the same bits.
+// A scene with no light renders black: a warning says so, and the render goes on.
 // Ctrl-C, SIGTERM and SIGHUP stop after the current pass and write the passes finished (a valid
 // shard: the rest can be rendered later with --samples and merged); a second signal ends the
 // process at once. Outputs are written to temporary files and renamed; temporaries left by a
@@ -17,7 +24,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <tuple>
 #include <unistd.h>
+#include <vector>
 
 #include "image/image.hpp"
 #include "oas/pattern.hpp"
@@ -101,6 +110,10 @@ int main(int argc, char** argv)
     std::string scenePath, sampler, output, device = "gpu", offset, samples;
     std::uint32_t spp = 0, seed = 0, strength = 0;
     bool explain = false;
+    std::string resolution;
+    std::vector<std::string> crop;
+    unsigned threads = 0;
+    constexpr unsigned kMaxThreads = 1024;
     app.add_option("scene", scenePath, "scene file (JSON, see scenes/README.md)")->required();
     app.add_option("--sampler", sampler, "override the scene's sampler (oa, bose, ..., random, halton)");
     app.add_option("--spp", spp, "override the scene's samples per pixel")->check(CLI::Range(1u, 1u << 24));
@@ -112,6 +125,14 @@ int main(int argc, char** argv)
                    "for oas-merge");
     app.add_option("-o,--output", output, "output EXR (default out/<scene>.exr); a PNG preview is written beside it");
     app.add_option("--device", device, "gpu (Vulkan) or cpu (the reference tracer)")->check(CLI::IsMember({"gpu", "cpu"}));
+    app.add_option("--resolution", resolution, "override the scene's image size, written as WxH (e.g. 640x480)");
+    app.add_option("--cropwindow", crop,
+                   "render only the window x0 x1 y0 y1 (fractions of the image, as pbrt's) and write that window "
+                   "alone")
+        ->expected(4);
+    CLI::Option* threadsOption =
+        app.add_option("--threads", threads, "CPU tracer workers (--device cpu), 0 .. 1024; 0: all cores")
+            ->check(CLI::Range(0u, kMaxThreads));
     app.add_flag("--explain", explain, "print the dimension plan and the sampler choice, then exit");
     try {
         app.parse(argc, argv);
@@ -122,7 +143,15 @@ int main(int argc, char** argv)
         return 2;
     }
     try {
+        if (threadsOption->count() && device != "cpu")
+            throw oas::InvalidArgument("--threads " + std::to_string(threads) +
+                                       ": the CPU tracer's workers: valid with --device cpu only");
         oas::scene::Scene scene = oas::scene::loadScene(scenePath);
+        if (!resolution.empty())
+            std::tie(scene.width, scene.height) = oas::render::parseResolution(resolution, "--resolution");
+        const oas::render::PixelWindow window =
+            crop.empty() ? oas::render::PixelWindow{0, scene.width, 0, scene.height}
+                         : oas::render::parseCropWindow(crop, scene.width, scene.height, "--cropwindow");
         if (!sampler.empty()) scene.sampler.name = sampler;
         if (spp) scene.sampler.spp = spp;
         if (!offset.empty()) scene.sampler.offset = offset;
@@ -141,6 +170,10 @@ int main(int argc, char** argv)
                       << "samples per pixel: " << scene.sampler.spp << "\n";
             return 0;
         }
+        if (scene.lights.empty() && scene.areaLightCount() == 0 && !scene.hasEnvironment())
+            std::cerr << "oas-render: warning: " << scenePath
+                      << ": the scene has no light (no emitting material on a shape, no point or spot light, no "
+                         "environment): it renders black\n";
         const oas::render::SampleRange range = samples.empty()
                                                    ? oas::render::SampleRange{0, scene.sampler.spp}
                                                    : oas::render::parseSampleRange(samples, scene.sampler.spp, "--samples");
@@ -168,7 +201,9 @@ int main(int argc, char** argv)
             std::fprintf(stderr, "pipeline built in %.2f s\n", gpu->pipelineBuildSeconds());
         }
         const std::string part = samples.empty() ? "" : ", samples " + oas::render::formatRanges({range});
-        std::cerr << "rendering " << scene.name << " (" << scene.width << "x" << scene.height << ", "
+        const std::string cropped =
+            crop.empty() ? "" : ", crop " + oas::render::formatCropWindow(window, scene.width, scene.height);
+        std::cerr << "rendering " << scene.name << " (" << scene.width << "x" << scene.height << cropped << ", "
                   << scene.sampler.spp << " spp" << part << ", " << plan.usedDims << "D) on " << where << "\n"
                   << "sampler: " << choice << "\n";
         installStopHandlers();
@@ -181,12 +216,14 @@ int main(int argc, char** argv)
         Progress progress(range.size());
         const auto start = std::chrono::steady_clock::now();
         const std::uint32_t done = oas::render::forEachBatch(
-            scene.width, scene.height, range.end, oas::render::samplesPerBatch(plan), seed,
-            [&](const oas::render::SampleBatch& batch) {
+            window.width(), window.height(), range.end, oas::render::samplesPerBatch(plan), seed,
+            [&](oas::render::SampleBatch batch) {  // the window's tiles, placed in the frame
+                batch.x0 += window.x0;
+                batch.y0 += window.y0;
                 if (gpu)
                     gpu->trace(batch);
                 else
-                    oas::render::traceCpu(data, plan, pattern, batch, cpuSums);
+                    oas::render::traceCpu(data, plan, pattern, batch, cpuSums, threads);
             },
             [&](std::uint32_t samplesDone) {  // stop signals are honoured between passes
                 progress.update(samplesDone,
@@ -207,6 +244,7 @@ int main(int argc, char** argv)
         oas::render::Accumulation sums;
         try {
             sums = gpu ? gpu->accumulation() : std::move(cpuSums);
+            if (!crop.empty()) sums = sums.window(window.x0, window.y0, window.width(), window.height());
         } catch (const std::bad_alloc&) {
             throw outOfMemory("the sums read back from the device");
         }
@@ -215,6 +253,10 @@ int main(int argc, char** argv)
         attributes["oas.device"] = where;
         attributes["oas.pipelineBuildSeconds"] = gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0";
         attributes["oas.writer"] = "oas-render";
+        if (!crop.empty()) {
+            attributes["oas.resolution"] = std::to_string(window.width()) + "x" + std::to_string(window.height());
+            attributes["oas.cropWindow"] = oas::render::formatCropWindow(window, scene.width, scene.height);
+        }
         oas::image::Image image;
         try {
             image = oas::render::writeRenderFile(output, sums, {finished}, attributes);
@@ -222,7 +264,7 @@ int main(int argc, char** argv)
             throw outOfMemory("the output image");
         }
         oas::image::writePngPreview(png, image);
-        const double paths = double(scene.width) * scene.height * done;
+        const double paths = double(window.width()) * window.height() * done;
         std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s", scene.name.c_str(), done, seconds,
                     paths / seconds / 1e6, where.c_str());
         if (gpu) std::printf(" (pipeline build before it: %.2f s)", gpu->pipelineBuildSeconds());

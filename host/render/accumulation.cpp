@@ -1,5 +1,6 @@
 #include "render/accumulation.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <stdexcept>
 
@@ -43,6 +44,17 @@ void Accumulation::addToPixel(std::size_t i, glm::uvec3 lo, glm::uvec3 mid, glm:
     storeSum(p, pt::pt_sum_add(loadSum(p), sum));
     p[pt::PT_SUM_COUNT_WORD] += samples;
     p[pt::PT_SUM_REJECTED_WORD] += rejected;
+}
+
+Accumulation Accumulation::window(std::uint32_t x0, std::uint32_t y0, std::uint32_t w, std::uint32_t h) const
+{
+    if (std::uint64_t(x0) + w > width || std::uint64_t(y0) + h > height)
+        throw std::invalid_argument("Accumulation::window: outside the " + std::to_string(width) + "x" +
+                                    std::to_string(height) + " image");
+    Accumulation out(w, h);
+    for (std::uint32_t y = 0; y < h; ++y)
+        std::copy_n(pixel(std::size_t(y0 + y) * width + x0), std::size_t(w) * kSumWords, out.pixel(std::size_t(y) * w));
+    return out;
 }
 
 void Accumulation::add(const Accumulation& other)

@@ -53,6 +53,8 @@ struct Accumulation {
     /// std::invalid_argument for another size, std::overflow_error when a pixel's sample count
     /// would pass 2^32 - 1 (the sums hold 2^32 samples of up to 2^64 each).
     void add(const Accumulation& other);
+    /// The sums of the width x height pixels whose top-left one is (x0, y0) (within this image).
+    Accumulation window(std::uint32_t x0, std::uint32_t y0, std::uint32_t w, std::uint32_t h) const;
     /// Samples rejected over the image.
     std::uint64_t rejectedSamples() const;
 

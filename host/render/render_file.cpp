@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <charconv>
 #include <cstdio>
 #include <cstring>
@@ -139,6 +140,50 @@ SampleRange parseSampleRange(const std::string& text, std::uint32_t spp, const s
     return r;
 }
 
+std::pair<std::uint32_t, std::uint32_t> parseResolution(const std::string& text, const std::string& what)
+{
+    const std::size_t x = text.find('x');
+    std::uint32_t w = 0, h = 0;
+    if (x == std::string::npos || !parseUint(std::string_view(text).substr(0, x), w) ||
+        !parseUint(std::string_view(text).substr(x + 1), h) || w < 1 || h < 1 || w > scene::kMaxResolution ||
+        h > scene::kMaxResolution)
+        throw InvalidArgument(what + " " + text + ": valid WxH, the image's width and height in pixels, each 1 .. " +
+                              std::to_string(scene::kMaxResolution) + " (e.g. 640x480)");
+    return {w, h};
+}
+
+PixelWindow parseCropWindow(const std::vector<std::string>& values, std::uint32_t width, std::uint32_t height,
+                            const std::string& what)
+{
+    std::string given;
+    for (const std::string& v : values) given += " " + v;
+    double f[4] = {};
+    bool ok = values.size() == 4;
+    for (std::size_t i = 0; ok && i < 4; ++i) {
+        const std::string& v = values[i];
+        const auto [end, ec] = std::from_chars(v.data(), v.data() + v.size(), f[i]);
+        ok = !v.empty() && ec == std::errc() && end == v.data() + v.size() && f[i] >= 0.0 && f[i] <= 1.0;
+    }
+    ok = ok && f[0] < f[1] && f[2] < f[3];
+    const auto pixel = [](double fraction, std::uint32_t size) { return std::uint32_t(std::ceil(fraction * size)); };
+    const PixelWindow w{ok ? pixel(f[0], width) : 0, ok ? pixel(f[1], width) : 0, ok ? pixel(f[2], height) : 0,
+                        ok ? pixel(f[3], height) : 0};
+    if (!ok)
+        throw InvalidArgument(what + given + ": valid x0 x1 y0 y1, fractions of the image with 0 <= x0 < x1 <= 1 "
+                                             "and 0 <= y0 < y1 <= 1 (e.g. 0.25 0.75 0 0.5)");
+    if (w.x0 >= w.x1 || w.y0 >= w.y1)
+        throw InvalidArgument(what + given + " holds no pixel of the " + std::to_string(width) + "x" +
+                              std::to_string(height) + " image (pixels [ceil(W x0), ceil(W x1)) x [ceil(H y0), "
+                              "ceil(H y1))): valid a wider window");
+    return w;
+}
+
+std::string formatCropWindow(const PixelWindow& window, std::uint32_t width, std::uint32_t height)
+{
+    return "[" + std::to_string(window.x0) + ", " + std::to_string(window.x1) + ") x [" + std::to_string(window.y0) +
+           ", " + std::to_string(window.y1) + ") of " + std::to_string(width) + "x" + std::to_string(height);
+}
+
 std::string prepareRenderOutput(const std::string& output, const std::string& option)
 {
     namespace fs = std::filesystem;
@@ -266,16 +311,21 @@ RenderFile mergeRenders(const std::vector<RenderFile>& renders, const std::vecto
         const auto it = f.attributes.find(name);
         return it == f.attributes.end() ? std::string("(missing)") : it->second;
     };
+    // oas.cropWindow is no frame field (whole frames lack it) but crops of different windows of
+    // one size must not add up.
+    std::vector<std::string> mergeFields = frameFields();
+    mergeFields.push_back("oas.cropWindow");
     double seconds = 0;
     std::vector<std::string> devices;
     std::vector<std::pair<SampleRange, std::size_t>> owners;  // every range with the render holding it
     for (std::size_t r = 0; r < renders.size(); ++r) {
         const RenderFile& f = renders[r];
-        for (const std::string& name : frameFields())
+        for (const std::string& name : mergeFields)
             if (value(f, name) != value(renders.front(), name))
                 throw InvalidArgument(names[r] + ": header field " + name + " is '" + value(f, name) + "' but " +
                                       names.front() + " has '" + value(renders.front(), name) +
-                                      "': shards of one frame share the scene, resolution, sampler, plan and seed");
+                                      "': shards of one frame share the scene, resolution, crop window, sampler, "
+                                      "plan and seed");
         for (const SampleRange& range : f.ranges) owners.push_back({range, r});
         if (r > 0) merged.sums.add(f.sums);
         try {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "oas/pattern.hpp"
@@ -27,6 +28,26 @@ struct SampleRange {
 /// Parses "A:B" (decimal, nothing else) as [A, B) with 0 <= A < B <= spp. Throws
 /// oas::InvalidArgument naming `what` (e.g. "--samples"), the text and the valid range.
 SampleRange parseSampleRange(const std::string& text, std::uint32_t spp, const std::string& what);
+/// Parses "WxH" (decimal, a lower-case x, nothing else) as an image size with both sides in
+/// 1 .. scene::kMaxResolution, the range a scene's "resolution" has. Throws oas::InvalidArgument
+/// naming `what` (e.g. "--resolution"), the text and the valid range.
+std::pair<std::uint32_t, std::uint32_t> parseResolution(const std::string& text, const std::string& what);
+
+/// The pixels [x0, x1) x [y0, y1) of a frame.
+struct PixelWindow {
+    std::uint32_t x0 = 0, x1 = 0, y0 = 0, y1 = 0;
+    std::uint32_t width() const { return x1 - x0; }
+    std::uint32_t height() const { return y1 - y0; }
+};
+/// pbrt's crop window: four fractions x0 x1 y0 y1 of the width x height image (decimal numbers
+/// with 0 <= x0 < x1 <= 1, 0 <= y0 < y1 <= 1), as pbrt maps them to pixels: [ceil(W x0),
+/// ceil(W x1)) x [ceil(H y0), ceil(H y1)). Throws oas::InvalidArgument naming `what`, the values
+/// and the valid ranges for anything else, or for a window that holds no pixel.
+PixelWindow parseCropWindow(const std::vector<std::string>& values, std::uint32_t width, std::uint32_t height,
+                            const std::string& what);
+/// The header field oas.cropWindow of a render of that window: "[x0, x1) x [y0, y1) of WxH".
+std::string formatCropWindow(const PixelWindow& window, std::uint32_t width, std::uint32_t height);
+
 /// "0:16" or, for several ranges, "0:4,9:16".
 std::string formatRanges(const std::vector<SampleRange>& ranges);
 
@@ -46,7 +67,9 @@ inline constexpr const char* kRenderFormat = "oas-accumulation-1";
 /// oas.dimensionPlan, oas.seed). oas.sceneHash hashes the flattened scene (geometry after mesh loading,
 /// materials, lights, camera, resolution); oas.pattern holds the sampler's 16 pattern words (the
 /// frame's spp, construction, offset, field); oas.dimensionPlan the plan (which effects take
-/// which dimensions); oas.seed the user seed.
+/// which dimensions); oas.seed the user seed. A crop (oas-render --cropwindow) stores only its
+/// window's pixels: its oas.resolution is the window's size, and oas.cropWindow (compared too when
+/// merging, absent in a whole frame) says where the window lies in the frame.
 const std::vector<std::string>& frameFields();
 
 /// The frame fields of a render of `data` (scene's `scene`) with this plan, pattern and seed,

@@ -100,7 +100,6 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Helpers for messages.
 
-constexpr std::uint32_t kMaxResolution = 16384;
 constexpr std::uint32_t kMaxSpp = 1u << 24;
 constexpr std::uint32_t kMaxPathDepth = 256;
 constexpr std::uintmax_t kMaxSceneBytes = std::uintmax_t(64) << 20;

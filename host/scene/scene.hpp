@@ -20,6 +20,9 @@
 
 namespace oas::scene {
 
+/// The largest image side a scene (its "resolution") or a command-line override may ask for.
+inline constexpr std::uint32_t kMaxResolution = 16384;
+
 /// A scene that cannot be loaded. what() is the complete message; the parts are kept for tools
 /// and tests. jsonPath() is empty when the problem is not in one field (unreadable file, JSON
 /// syntax error: then the message carries line and column instead).
