@@ -614,6 +614,153 @@ TEST(RenderCli, FuzzerFindingsExitWithAMessageNamingTheScene)
     EXPECT_GE(checked, 3u);
 }
 
+/// Runs oas-render with arguments; returns the exit status and what it wrote on stderr.
+std::pair<int, std::string> runRenderStderr(const std::string& args)
+{
+    const auto errFile = std::filesystem::temp_directory_path() / ("oas_render_err_" + std::to_string(::getpid()));
+    const int status = std::system((std::string(OAS_RENDER_EXE) + " " + args + " >/dev/null 2>'" + errFile.string() + "'").c_str());
+    std::ifstream in(errFile);
+    std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::filesystem::remove(errFile);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, err};
+}
+
+/// A fresh directory for one test's outputs.
+std::filesystem::path freshDir(const std::string& name)
+{
+    const auto dir = std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+TEST(RenderCli, BadOverridesExitWithStatus2NameTheValueAndTheRangeAndWriteNothing)
+{
+    const auto dir = freshDir("oas_render_overrides");
+    const std::string good = std::string(OAS_SCENES_DIR) + "/furnace.json --spp 4 -o '" + (dir / "x.exr").string() + "' ";
+    // Each bad value, with a part of the message it must give (option, value, valid range).
+    const std::vector<std::pair<std::string, std::string>> bad = {
+        {"--device cpu --resolution 0x8", "--resolution 0x8: valid WxH, the image's width and height in pixels, each 1 .. 16384"},
+        {"--device cpu --resolution -8x8", "--resolution -8x8: valid WxH"},
+        {"--device cpu --resolution 8", "--resolution 8: valid WxH"},
+        {"--device cpu --resolution x8", "--resolution x8: valid WxH"},
+        {"--device cpu --resolution 8x", "--resolution 8x: valid WxH"},
+        {"--device cpu --resolution 8x8px", "--resolution 8x8px: valid WxH"},
+        {"--device cpu --resolution 4294967304x8", "--resolution 4294967304x8: valid WxH"},
+        {"--device cpu --resolution 16385x8", "1 .. 16384"},
+        {"--device cpu --resolution 64X64", "--resolution 64X64: valid WxH"},
+        {"--device cpu --resolution ' 8x8'", "valid WxH"},
+        {"--device cpu --cropwindow 0.5 0.2 0 1", "--cropwindow 0.5 0.2 0 1: valid x0 x1 y0 y1, fractions of the image "
+                                                  "with 0 <= x0 < x1 <= 1 and 0 <= y0 < y1 <= 1"},
+        {"--device cpu --cropwindow 0 1 0.5 0.5", "--cropwindow 0 1 0.5 0.5: valid x0 x1 y0 y1"},
+        {"--device cpu --cropwindow -0.1 0.5 0 1", "--cropwindow -0.1 0.5 0 1: valid"},
+        {"--device cpu --cropwindow 0 1 0 1.5", "--cropwindow 0 1 0 1.5: valid"},
+        {"--device cpu --cropwindow 0 1 0 nan", "--cropwindow 0 1 0 nan: valid"},
+        {"--device cpu --cropwindow 0 1 0 0.5x", "--cropwindow 0 1 0 0.5x: valid"},
+        {"--device cpu --cropwindow 0 1 0", "--cropwindow"},
+        {"--device cpu --resolution 8x8 --cropwindow 0.01 0.1 0 1", "--cropwindow 0.01 0.1 0 1 holds no pixel of the 8x8 image"},
+        {"--threads 2", "--threads 2: the CPU tracer's workers: valid with --device cpu only"},
+        {"--device gpu --threads 0", "--threads 0: the CPU tracer's workers: valid with --device cpu only"},
+        {"--device cpu --threads 1025", "--threads: Value 1025 not in range 0 to 1024"},
+        {"--device cpu --threads -1", "--threads"},
+    };
+    for (const auto& [args, message] : bad) {
+        const auto [status, err] = runRenderStderr(good + args);
+        EXPECT_EQ(status, 2) << args << "\n" << err;
+        EXPECT_NE(err.find(message), std::string::npos) << args << "\n" << err;
+        EXPECT_TRUE(filesUnder(dir).empty()) << args;
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(RenderCli, ScenesWithoutLightWarnAndStillRender)
+{
+    // pbrt's warning: a scene with no emitting shape, no point or spot light and no environment
+    // renders black. Say so, naming the file, and render anyway. An emitting material that no
+    // shape uses is no light.
+    const auto dir = freshDir("oas_render_dark");
+    std::ifstream in(std::string(OAS_SCENES_DIR) + "/cornell7d.json");
+    nlohmann::json j = nlohmann::json::parse(in);
+    j.erase("lights");
+    j.erase("environment");
+    for (auto& shape : j["shapes"])
+        if (shape.contains("material") && shape["material"] == "light") shape["material"] = "white";
+    const std::string scene = (dir / "dark.json").string();
+    std::ofstream(scene) << j.dump();
+    const auto [status, err] = runRenderStderr(scene + " --device cpu --spp 4 --resolution 8x8 -o '" +
+                                               (dir / "dark.exr").string() + "'");
+    EXPECT_EQ(status, 0) << err;
+    EXPECT_NE(err.find("oas-render: warning: " + scene + ": the scene has no light"), std::string::npos) << err;
+    const auto dark = render::readRenderFile((dir / "dark.exr").string());
+    for (float v : dark.sums.image().rgba) ASSERT_TRUE(v == 0.0f || v == 1.0f);  // black, alpha 1
+    // The scenes that have light say nothing of the kind.
+    for (const char* lit : {"cornell7d.json", "furnace.json"}) {
+        const auto [litStatus, litErr] = runRenderStderr(std::string(OAS_SCENES_DIR) + "/" + lit +
+                                                         " --device cpu --spp 4 --resolution 4x4 -o '" +
+                                                         (dir / "lit.exr").string() + "'");
+        EXPECT_EQ(litStatus, 0) << litErr;
+        EXPECT_EQ(litErr.find("warning"), std::string::npos) << lit << ": " << litErr;
+    }
+    std::filesystem::remove_all(dir);
+}
+
+/// Renders cornell7d at 24x16 on `device` whole and as the crop window 0.25 0.6 0.5 1 (pixels
+/// [6, 15) x [8, 16)) and checks that the crop holds the window's pixels of the whole frame, bit
+/// for bit, that it says where it lies, and that crops of one window merge like shards while crops
+/// of another window do not. `extra` goes to every run.
+void checkCropWindow(const std::string& device, const std::string& extra = "")
+{
+    const auto dir = freshDir("oas_render_crop_" + device);
+    const std::string scene = std::string(OAS_SCENES_DIR) + "/cornell7d.json --resolution 24x16 --spp 8 --device " +
+                              device + " " + extra + " ";
+    const auto renderTo = [&](const std::string& name, const std::string& args) {
+        const auto [status, err] = runRenderStderr(scene + args + " -o '" + (dir / name).string() + "'");
+        EXPECT_EQ(status, 0) << args << "\n" << err;
+        return render::readRenderFile((dir / name).string());
+    };
+    const auto whole = renderTo("whole.exr", "");
+    ASSERT_EQ(whole.sums.width, 24u);
+    ASSERT_EQ(whole.sums.height, 16u);
+    EXPECT_EQ(whole.attributes.count("oas.cropWindow"), 0u);
+    const std::string window = "--cropwindow 0.25 0.6 0.5 1";
+    const auto crop = renderTo("crop.exr", window);
+    ASSERT_EQ(crop.sums.width, 9u);
+    ASSERT_EQ(crop.sums.height, 8u);
+    EXPECT_EQ(crop.attributes.at("oas.cropWindow"), "[6, 15) x [8, 16) of 24x16");
+    EXPECT_EQ(crop.attributes.at("oas.resolution"), "9x8");
+    EXPECT_EQ(crop.attributes.at("oas.sceneHash"), whole.attributes.at("oas.sceneHash"));
+    const auto expected = whole.sums.window(6, 8, 9, 8);
+    EXPECT_TRUE(crop.sums.words == expected.words) << device << ": the crop's sums differ from the whole frame's";
+    double total = 0;
+    for (float v : crop.sums.image().rgba) total += v;
+    EXPECT_GT(total, 9.0 * 8.0) << "the crop is black: the comparison would prove nothing";
+    // Two shards of the crop add up to the crop; a crop of another window of that size is refused.
+    const auto first = renderTo("first.exr", window + " --samples 0:3");
+    const auto rest = renderTo("rest.exr", window + " --samples 3:8");
+    EXPECT_TRUE(render::mergeRenders({first, rest}, {"first.exr", "rest.exr"}).sums.words == crop.sums.words);
+    const auto other = renderTo("other.exr", "--cropwindow 0.5 0.85 0.5 1 --samples 3:8");
+    EXPECT_THROW(render::mergeRenders({first, other}, {"first.exr", "other.exr"}), InvalidArgument);
+    std::filesystem::remove_all(dir);
+}
+
+TEST(RenderCli, CropWindowHoldsTheWholeFramesPixelsBitForBitOnTheCpu) { checkCropWindow("cpu"); }
+
+TEST(RenderCli, AnyThreadCountGivesTheSameFile)
+{
+    const auto dir = freshDir("oas_render_threads");
+    std::vector<std::uint32_t> first;
+    for (const char* threads : {"1", "3", "0"}) {
+        const std::string out = (dir / (std::string("t") + threads + ".exr")).string();
+        const auto [status, err] = runRenderStderr(std::string(OAS_SCENES_DIR) + "/cornell7d.json --device cpu "
+                                                   "--resolution 20x13 --spp 9 --threads " + threads + " -o '" + out + "'");
+        ASSERT_EQ(status, 0) << err;
+        const auto words = render::readRenderFile(out).sums.words;
+        if (first.empty()) first = words;
+        EXPECT_TRUE(words == first) << "--threads " << threads;
+    }
+    std::filesystem::remove_all(dir);
+}
+
 TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
 {
 #if defined(__SANITIZE_ADDRESS__)
@@ -646,6 +793,10 @@ TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
     std::filesystem::remove_all(dir);
 #endif
 }
+
+// The CLI on the Vulkan device (lavapipe unless chosen): the same crop property on the GPU. The
+// fixture skips visibly without a device.
+TEST_F(RenderGpu, CliCropWindowHoldsTheWholeFramesPixelsBitForBit) { checkCropWindow("gpu"); }
 
 }  // namespace
 
