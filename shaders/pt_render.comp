@@ -7,48 +7,24 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 
-layout(constant_id = 0) const uint oasSpecConstruction = 1u;
-layout(constant_id = 1) const uint oasSpecOffset = 3u;
-layout(constant_id = 2) const uint oasSpecFieldKind = 0u;
+// Every specialization constant and buffer binding comes from one table, pt/pt_constants.glsl
+// (the host fills the same table: host/render/tracer_gpu.cpp).
+#include "pt/pt_constants.glsl"
+#define PT_DECLARE_SPEC_CONSTANT(NAME, ID, TYPE, DEFAULT, HOST) layout(constant_id = ID) const TYPE NAME = DEFAULT;
+PT_SAMPLER_CONSTANTS(PT_DECLARE_SPEC_CONSTANT)
 #define OAS_STATIC_CONSTRUCTION oasSpecConstruction
 #define OAS_STATIC_OFFSET oasSpecOffset
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
 // The Sobol baseline's direction numbers (oas::sobolDirections(), 1024 dims x 32 bits).
-layout(std430, binding = 6) readonly buffer SobolDirections { uint sobolDirections[]; };
+layout(std430, binding = PT_BINDING_SOBOL_DIRECTIONS) readonly buffer SobolDirections { uint sobolDirections[]; };
 #define OAS_SOBOL_DIRECTION(dim, bit) sobolDirections[(dim) * 32u + (bit)]
 #include "oas/oas.glsl"
 
-const uint PT_ABSENT = 0xffffffffu;
-layout(constant_id = 10) const bool PT_HAS_LENS = false;
-layout(constant_id = 11) const bool PT_HAS_MOTION = false;
-layout(constant_id = 12) const bool PT_NEE = true;
-layout(constant_id = 13) const bool PT_MIS = true;
-layout(constant_id = 14) const bool PT_HAS_DIELECTRIC = false;
-layout(constant_id = 15) const uint PT_MAX_DEPTH = 1u;
-layout(constant_id = 16) const uint PT_RR_START = 0u;
-layout(constant_id = 20) const uint PT_DIM_PIXEL = 0u;
-layout(constant_id = 21) const uint PT_DIM_LENS = PT_ABSENT;
-layout(constant_id = 22) const uint PT_DIM_TIME = PT_ABSENT;
-layout(constant_id = 23) const uint PT_DIM_VERTEX_BASE = 2u;
-layout(constant_id = 24) const uint PT_DIM_VERTEX_STRIDE = 2u;
-layout(constant_id = 25) const uint PT_OFF_LIGHT_SELECT = PT_ABSENT;
-layout(constant_id = 26) const uint PT_OFF_LIGHT_UV = PT_ABSENT;
-layout(constant_id = 27) const uint PT_OFF_BSDF_UV = PT_ABSENT;
-layout(constant_id = 28) const uint PT_OFF_LOBE = PT_ABSENT;
-layout(constant_id = 29) const uint PT_OFF_RR = PT_ABSENT;
-
-// Profile by elimination (oas-render-bench --profile): what the kernel does per sample.
-// 0: the path tracer; 1: nothing (dispatch, bounds test and accumulation only); 2: the sample
-// fetches alone (every dimension group a path of PT_MAX_DEPTH vertices draws, summed, so the
-// compiler keeps them). Renders always use 0, and the other branches compile away.
-layout(constant_id = 30) const uint PT_STAGE = 0u;
-// The scene's features (host/render/scene_data.hpp SceneFeatures; pt/pt_trace.glsl).
+PT_PLAN_CONSTANTS(PT_DECLARE_SPEC_CONSTANT)
+PT_KERNEL_CONSTANTS(PT_DECLARE_SPEC_CONSTANT)
+// The scene's features as specialization constants (pt/pt_trace.glsl otherwise keeps every path).
 #define PT_SCENE_FEATURES
-layout(constant_id = 31) const bool PT_HAS_SPHERES = true;
-layout(constant_id = 32) const bool PT_HAS_QUADS = true;
-layout(constant_id = 33) const bool PT_HAS_TRIANGLES = true;
-layout(constant_id = 34) const bool PT_HAS_CONDUCTORS = true;
-layout(constant_id = 35) const bool PT_HAS_POINT_LIGHTS = true;
+PT_SCENE_FEATURE_CONSTANTS(PT_DECLARE_SPEC_CONSTANT)
 
 #include "pt/pt_types.glsl"
 
@@ -65,13 +41,13 @@ layout(push_constant) uniform RenderParams {
     uint seed;
 } params;
 
-layout(std430, binding = 0) readonly buffer Shapes { PtShape shapes[]; };
-layout(std430, binding = 1) readonly buffer Materials { PtMaterial materials[]; };
-layout(std430, binding = 2) readonly buffer Lights { PtLight lights[]; };
-layout(std430, binding = 3) readonly buffer Nodes { PtNode nodes[]; };
-layout(std430, binding = 4) readonly buffer Globals { PtGlobals globals; };
+layout(std430, binding = PT_BINDING_SHAPES) readonly buffer Shapes { PtShape shapes[]; };
+layout(std430, binding = PT_BINDING_MATERIALS) readonly buffer Materials { PtMaterial materials[]; };
+layout(std430, binding = PT_BINDING_LIGHTS) readonly buffer Lights { PtLight lights[]; };
+layout(std430, binding = PT_BINDING_NODES) readonly buffer Nodes { PtNode nodes[]; };
+layout(std430, binding = PT_BINDING_GLOBALS) readonly buffer Globals { PtGlobals globals; };
 // Exact per-pixel sums, PT_SUM_WORDS words per pixel (pt/pt_accumulate.glsl).
-layout(std430, binding = 5) buffer Accumulation { uint accumulation[]; };
+layout(std430, binding = PT_BINDING_ACCUMULATION) buffer Accumulation { uint accumulation[]; };
 
 PtShape pt_shape(uint i) { return shapes[i]; }
 PtMaterial pt_material(uint i) { return materials[i]; }

@@ -10,11 +10,12 @@
 #include <string>
 #include <vector>
 
+#include "render/pt_constants.hpp"
 #include "scene/scene.hpp"
 
 namespace oas::render {
 
-constexpr std::uint32_t kAbsent = 0xffffffffu;
+// kAbsent, a dimension the plan does not have, is render/pt_constants.hpp's (the shaders' PT_ABSENT).
 /// Most dimensions of one group (the camera's, or one path vertex's): PT_GROUP_MAX in
 /// shaders/pt/pt_trace.glsl, which fetches a group at a time.
 constexpr std::uint32_t kMaxGroupDims = 8;

@@ -96,6 +96,13 @@ struct GpuTracerOptions {
     bool specialiseSceneFeatures = true;
 };
 
+/// The kernel's specialization constants for a plan and pattern: each field of the table
+/// (shaders/pt/pt_constants.glsl) from its HOST expression, the scene-feature entries from
+/// `features`, or left at their defaults (every path kept) when it is null. The GPU tracer passes
+/// them to pt_render.comp; the CPU tracer reads the plan's.
+pt::PtSpecialization specialization(const DimensionPlan& plan, const Pattern& pattern, KernelStage stage,
+                                    const SceneFeatures* features);
+
 class GpuTracer {
 public:
     GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,

@@ -15,6 +15,7 @@ namespace {
 struct CpuContext {
     const SceneData* data;
     const DimensionPlan* plan;
+    pt::PtSpecialization spec;  ///< the kernel's specialization constants for the plan (every path kept)
     glsl::OasPattern pattern;
     std::uint64_t generation;  ///< unique per context: keys the per-thread pass-state memo
 };
@@ -23,7 +24,8 @@ std::atomic<std::uint64_t> gContextGeneration{0};
 
 CpuContext makeContext(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern)
 {
-    return {&data, &plan, glsl::toGlsl(pattern), ++gContextGeneration};
+    return {&data, &plan, specialization(plan, pattern, KernelStage::PathTrace, nullptr), glsl::toGlsl(pattern),
+            ++gContextGeneration};
 }
 
 /// A memo of the library's per-pass state for the pixel a thread is tracing, and nothing else:
@@ -68,24 +70,11 @@ using oas::glsl::oas_draw;
 using oas::glsl::OAS_DRAW_MAX;
 using uint = std::uint32_t;
 
-const uint PT_ABSENT = kAbsent;
-#define PT_HAS_LENS (tContext->plan->hasLens)
-#define PT_HAS_MOTION (tContext->plan->hasMotion)
-#define PT_NEE (tContext->plan->nee)
-#define PT_MIS (tContext->plan->mis)
-#define PT_HAS_DIELECTRIC (tContext->plan->lobe != kAbsent)
-#define PT_MAX_DEPTH (tContext->plan->maxDepth)
-#define PT_RR_START (tContext->plan->roulette != kAbsent ? tContext->plan->rouletteStart : 0u)
-#define PT_DIM_PIXEL (tContext->plan->pixel)
-#define PT_DIM_LENS (tContext->plan->lens)
-#define PT_DIM_TIME (tContext->plan->time)
-#define PT_DIM_VERTEX_BASE (tContext->plan->vertexBase)
-#define PT_DIM_VERTEX_STRIDE (tContext->plan->vertexStride)
-#define PT_OFF_LIGHT_SELECT (tContext->plan->lightSelect)
-#define PT_OFF_LIGHT_UV (tContext->plan->lightUV)
-#define PT_OFF_BSDF_UV (tContext->plan->bsdfUV)
-#define PT_OFF_LOBE (tContext->plan->lobe)
-#define PT_OFF_RR (tContext->plan->roulette)
+// The plan entries of the table (pt/pt_constants.glsl), which the GPU kernel receives as
+// specialization constants: this thread's variables, set from the bound context (bind()).
+#define PT_DECLARE_THREAD_CONSTANT(NAME, ID, TYPE, DEFAULT, HOST) thread_local TYPE NAME = DEFAULT;
+PT_PLAN_CONSTANTS(PT_DECLARE_THREAD_CONSTANT)
+#undef PT_DECLARE_THREAD_CONSTANT
 
 PtShape pt_shape(uint i) { return tContext->data->shapes[i]; }
 PtMaterial pt_material(uint i) { return tContext->data->materials[i]; }
@@ -110,7 +99,7 @@ OasDraw pt_cpu_group_dims(PtSampleState st, uint first, uint count)
     if (m.generation != tContext->generation || m.seed != st.seed || m.pass != pass) m.reset(*tContext, st.seed, pass);
     OasDraw d{};
     glsl::OasRow row{};
-    for (uint k = 0u, rowBlock = PT_NONE; k < count; ++k) {
+    for (uint k = 0u, rowBlock = PT_ABSENT; k < count; ++k) {
         const uint dim = first + k, block = dim / pat.blockDims;
         if (!m.blockMade[block]) {
             m.blocks[block] = glsl::oas_block(pat, st.seed, st.index, block);
@@ -135,15 +124,25 @@ static_assert(shared::PT_GROUP_MAX == kMaxGroupDims, "pt_trace.glsl and plan.hpp
 }  // namespace
 
 namespace {
-/// Binds a CpuContext to this thread for one scope (the GLSL's bindings read it).
+/// Makes `context` (or none) this thread's: the GLSL's accessors read it, its constants the plan's.
+void bind(const CpuContext* context)
+{
+    tContext = context;
+    if (!context) return;
+#define PT_BIND_THREAD_CONSTANT(NAME, ID, TYPE, DEFAULT, HOST) shared::NAME = context->spec.NAME;
+    PT_PLAN_CONSTANTS(PT_BIND_THREAD_CONSTANT)
+#undef PT_BIND_THREAD_CONSTANT
+}
+
+/// Binds a CpuContext to this thread for one scope.
 class BoundContext {
 public:
     BoundContext(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern)
         : context_(makeContext(data, plan, pattern))
     {
-        tContext = &context_;
+        bind(&context_);
     }
-    ~BoundContext() { tContext = nullptr; }
+    ~BoundContext() { bind(nullptr); }
     BoundContext(const BoundContext&) = delete;
     BoundContext& operator=(const BoundContext&) = delete;
 
@@ -183,7 +182,7 @@ std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const P
     std::atomic<std::uint32_t> nextRow{0};
     std::atomic<std::uint64_t> rejectedTotal{0};
     auto work = [&] {
-        tContext = &context;
+        bind(&context);
         for (std::uint32_t row; (row = nextRow++) < b.height;) {
             const std::uint32_t py = b.y0 + row;
             for (std::uint32_t px = b.x0; px < b.x0 + b.width; ++px) {
@@ -203,7 +202,7 @@ std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const P
                 rejectedTotal += rejected;
             }
         }
-        tContext = nullptr;
+        bind(nullptr);
     };
     std::vector<std::thread> pool;
     for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work);

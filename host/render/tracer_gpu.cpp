@@ -26,33 +26,51 @@ std::unique_ptr<vk::Buffer> upload(vk::Context& context, const std::vector<T>& i
 
 }  // namespace
 
+pt::PtSpecialization specialization(const DimensionPlan& plan, const Pattern& pattern, KernelStage stage,
+                                    const SceneFeatures* featuresOrNull)
+{
+    // The names the table's HOST expressions use (pattern, plan, stage, features, PT_ABSENT).
+    using pt::PT_ABSENT;
+    using pt::uint;
+    pt::PtSpecialization s;
+#define PT_SET_FROM_HOST(NAME, ID, TYPE, DEFAULT, HOST) s.NAME = TYPE(HOST);
+    PT_SAMPLER_CONSTANTS(PT_SET_FROM_HOST)
+    PT_PLAN_CONSTANTS(PT_SET_FROM_HOST)
+    PT_KERNEL_CONSTANTS(PT_SET_FROM_HOST)
+    if (featuresOrNull) {
+        const SceneFeatures& features = *featuresOrNull;
+        PT_SCENE_FEATURE_CONSTANTS(PT_SET_FROM_HOST)
+    }
+#undef PT_SET_FROM_HOST
+    return s;
+}
+
 GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,
                      const GpuTracerOptions& options)
     : context_(context), pattern_(pattern), width_(std::uint32_t(data.globals.image.x)),
       height_(std::uint32_t(data.globals.image.y))
 {
-    SceneFeatures features{true, true, true, true, true};
-    if (options.specialiseSceneFeatures) features = sceneFeatures(data);
-    const vk::ComputePipeline::SpecConstants spec = {
-        {0, pattern.construction}, {1, pattern.offset}, {2, oas::fieldKind(pattern)},
-        {10, plan.hasLens}, {11, plan.hasMotion}, {12, plan.nee}, {13, plan.mis}, {14, plan.lobe != kAbsent},
-        {15, plan.maxDepth}, {16, plan.roulette != kAbsent ? plan.rouletteStart : 0u},
-        {20, plan.pixel}, {21, plan.lens}, {22, plan.time}, {23, plan.vertexBase}, {24, plan.vertexStride},
-        {25, plan.lightSelect}, {26, plan.lightUV}, {27, plan.bsdfUV}, {28, plan.lobe}, {29, plan.roulette},
-        {30, std::uint32_t(options.stage)}, {31, features.spheres}, {32, features.quads}, {33, features.triangles},
-        {34, features.conductors}, {35, features.pointLights}};
+    const SceneFeatures features = sceneFeatures(data);
+    const pt::PtSpecialization s =
+        specialization(plan, pattern, options.stage, options.specialiseSceneFeatures ? &features : nullptr);
+#define PT_SPEC_ENTRY(NAME, ID, TYPE, DEFAULT, HOST) {ID, std::uint32_t(s.NAME)},
+    const vk::ComputePipeline::SpecConstants spec = {PT_SPEC_CONSTANTS(PT_SPEC_ENTRY)};
+#undef PT_SPEC_ENTRY
     const auto buildStart = std::chrono::steady_clock::now();
-    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), 7,
+    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), kBindingCount,
                                                       std::uint32_t(sizeof(RenderParams)), spec);
     pipelineBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
-    buffers_.push_back(upload(context_, data.shapes));
-    buffers_.push_back(upload(context_, data.materials));
-    buffers_.push_back(upload(context_, data.lights));
-    buffers_.push_back(upload(context_, data.nodes));
-    buffers_.push_back(upload(context_, std::vector<pt::PtGlobals>{data.globals}));
-    buffers_.push_back(
-        std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * kSumWords * sizeof(std::uint32_t)));
-    buffers_.push_back(upload(context_, sobolDirections()));
+    buffers_.resize(kBindingCount);
+    buffers_[pt::PT_BINDING_SHAPES] = upload(context_, data.shapes);
+    buffers_[pt::PT_BINDING_MATERIALS] = upload(context_, data.materials);
+    buffers_[pt::PT_BINDING_LIGHTS] = upload(context_, data.lights);
+    buffers_[pt::PT_BINDING_NODES] = upload(context_, data.nodes);
+    buffers_[pt::PT_BINDING_GLOBALS] = upload(context_, std::vector<pt::PtGlobals>{data.globals});
+    buffers_[pt::PT_BINDING_ACCUMULATION] =
+        std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * kSumWords * sizeof(std::uint32_t));
+    buffers_[pt::PT_BINDING_SOBOL_DIRECTIONS] = upload(context_, sobolDirections());
+    for (const auto& buffer : buffers_)
+        if (!buffer) throw std::logic_error("GpuTracer: a binding of pt_constants.glsl's PT_BINDINGS has no buffer");
     clear();
 }
 
@@ -127,7 +145,11 @@ std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint3
     return cursor.samplesDone();
 }
 
-void GpuTracer::clear() { std::memset(buffers_[5]->data(), 0, buffers_[5]->size()); }
+void GpuTracer::clear()
+{
+    const vk::Buffer& sums = *buffers_[pt::PT_BINDING_ACCUMULATION];
+    std::memset(sums.data(), 0, sums.size());
+}
 
 std::uint64_t GpuTracer::rejectedSamples() const { return accumulation().rejectedSamples(); }
 
@@ -142,7 +164,8 @@ void GpuTracer::trace(const SampleBatch& b)
 Accumulation GpuTracer::accumulation() const
 {
     Accumulation out(width_, height_);
-    std::memcpy(out.words.data(), buffers_[5]->data(), out.words.size() * sizeof(std::uint32_t));
+    const vk::Buffer& sums = *buffers_[pt::PT_BINDING_ACCUMULATION];
+    std::memcpy(out.words.data(), sums.data(), out.words.size() * sizeof(std::uint32_t));
     return out;
 }
 

@@ -6,11 +6,9 @@
 //   accessors  PtShape pt_shape(uint), PtMaterial pt_material(uint), PtLight pt_light(uint),
 //              PtNode pt_node(uint), PtGlobals pt_globals(), OasPattern pt_pattern() (only
 //              without PT_FETCH_GROUP: pt_group_dims is its one caller)
-//   constants  PT_HAS_LENS, PT_HAS_MOTION, PT_NEE, PT_MIS, PT_HAS_DIELECTRIC (bool);
-//              PT_MAX_DEPTH, PT_RR_START (0: no roulette) (uint); the dimension plan
-//              PT_DIM_PIXEL, PT_DIM_LENS, PT_DIM_TIME, PT_DIM_VERTEX_BASE, PT_DIM_VERTEX_STRIDE,
-//              PT_OFF_LIGHT_SELECT, PT_OFF_LIGHT_UV, PT_OFF_BSDF_UV, PT_OFF_LOBE, PT_OFF_RR
-//              (uint; PT_ABSENT where the plan has no such dimension; see host/render/plan.hpp).
+//   constants  the plan entries of pt/pt_constants.glsl (PT_PLAN_CONSTANTS: the effects, PT_MAX_DEPTH,
+//              PT_RR_START and the dimension plan, PT_ABSENT where the plan has no such dimension),
+//              and the scene features (PT_SCENE_FEATURE_CONSTANTS) when it defines PT_SCENE_FEATURES.
 // Only the effects a scene calls for consume sample dimensions; the GPU kernel receives all of
 // the above as specialization constants, so absent effects compile away.
 #ifndef PT_TRACE_GLSL
@@ -22,17 +20,13 @@
 // defines PT_SCENE_FEATURES and receives them as specialization constants, so a feature the scene
 // lacks compiles away; the code for a feature that is present is unchanged, and so are the
 // images. The CPU tracer, which branches for real, keeps every path.
+#include "pt/pt_constants.glsl"
 #ifndef PT_SCENE_FEATURES
-const bool PT_HAS_SPHERES = true;
-const bool PT_HAS_QUADS = true;
-const bool PT_HAS_TRIANGLES = true;
-const bool PT_HAS_CONDUCTORS = true;
-const bool PT_HAS_POINT_LIGHTS = true;
+PT_SCENE_FEATURE_CONSTANTS(PT_DECLARE_DEFAULT)
 #endif
 
 const float PT_PI = 3.14159265358979f;
 const float PT_INF = 1e30f;
-const uint PT_NONE = 0xffffffffu;
 
 /// The sample being traced: the pixel's OA seed and the sample index.
 struct PtSampleState {
@@ -161,7 +155,7 @@ float pt_box(PtNode n, vec3 o, vec3 invD, float tMax)
 
 struct PtHit {
     float t;
-    uint shape;  ///< PT_NONE: the ray escaped
+    uint shape;  ///< PT_ABSENT: the ray escaped
 };
 
 /// Closest hit along o + t d, t in (tMin, tMax), through the BVH.
@@ -169,7 +163,7 @@ PtHit pt_trace(vec3 o, vec3 d, float time, float tMin, float tMax)
 {
     PtHit hit;
     hit.t = tMax;
-    hit.shape = PT_NONE;
+    hit.shape = PT_ABSENT;
     if (uint(pt_globals().time.w) == 0u) return hit;
     // No zero direction components: 1/0 = inf meets 0 * inf = NaN in the slab test.
     vec3 dd = d;
@@ -220,7 +214,7 @@ PtHit pt_trace(vec3 o, vec3 d, float time, float tMin, float tMax)
 /// True when nothing blocks the segment o + t d, t in (tMin, tMax).
 bool pt_visible(vec3 o, vec3 d, float time, float tMin, float tMax)
 {
-    return pt_trace(o, d, time, tMin, tMax).shape == PT_NONE;
+    return pt_trace(o, d, time, tMin, tMax).shape == PT_ABSENT;
 }
 
 /// Orthonormal basis around unit n (Duff et al. 2017, "Building an Orthonormal Basis, Revisited").
@@ -516,7 +510,7 @@ vec3 pt_radiance(PtSampleState st, uint px, uint py)
             continue;
         }
         PtHit hit = pt_trace(origin, dir, time, 0.0f, PT_INF);
-        if (hit.shape == PT_NONE) {
+        if (hit.shape == PT_ABSENT) {
             radiance += throughput * vec3(g.environment);  // the environment is not light-sampled
             break;
         }
