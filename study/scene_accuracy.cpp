@@ -422,7 +422,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                     all.push_back(m);
                     batches.push_back(m.relMseRare);
                 }
-                // One line per point: this stage runs for minutes in full mode and was silent.
+                // One line per point: this stage runs for minutes in full mode, and a silent minute looks like a hang.
                 const Estimate e = sum();
                 const bool restAbove = restE.se > o.relSeTarget * std::abs(e.mean);
                 std::fprintf(stderr, "    %s@%u: %zu rare renders, relMSE %.3g +- %.2g (%.0f%%%s, %.0f s so far)\n",

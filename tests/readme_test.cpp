@@ -1,7 +1,8 @@
-// The README's "Use it in your renderer" snippets must be the code the consumer tests build: every
-// line of every code block in that section appears, as a whole line, in one of the files those
-// tests compile (examples/, tests/c/pattern_c_test.c). Whole-line CMake comments are exempt: the
-// README explains with them. A snippet that drifts from the tested code fails here.
+// The embedding snippets must be the code the consumer tests build: every line of every code block
+// in the README's "Use it in your renderer" section and in docs/EMBEDDING.md appears, as a whole
+// line, in one of the files those tests compile (examples/, tests/c/pattern_c_test.c). Whole-line
+// CMake comments are exempt: the docs explain with them. A snippet that drifts from the tested code
+// fails here.
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -48,7 +49,8 @@ std::vector<Block> snippetsOf(const std::string& readme, const std::string& sect
     int number = 0;
     for (const auto& line : lines(readme)) {
         ++number;
-        if (!inBlock && line.rfind("## ", 0) == 0) inSection = line == section;
+        if (section.empty()) inSection = true;
+        else if (!inBlock && line.rfind("## ", 0) == 0) inSection = line == section;
         if (!inSection) continue;
         if (line.rfind("```", 0) == 0) {
             if (inBlock) {
@@ -64,19 +66,24 @@ std::vector<Block> snippetsOf(const std::string& readme, const std::string& sect
     return blocks;
 }
 
-TEST(Readme, UseItInYourRendererShowsTheTestedCode)
+std::set<std::string> testedLines()
 {
     const std::string root = OAS_SOURCE_DIR;
-    const std::vector<Block> blocks = snippetsOf(readFile(root + "/README.md"), "## Use it in your renderer");
-    ASSERT_GE(blocks.size(), 7u) << "the section or its code blocks are missing";
     std::set<std::string> tested;
     for (const char* file : {"/examples/consumer-find-package/CMakeLists.txt", "/examples/consumer-add-subdirectory/CMakeLists.txt",
                              "/examples/consumer-fetchcontent/CMakeLists.txt", "/examples/common/consumer.cmake",
                              "/examples/common/consumer.comp", "/tests/c/pattern_c_test.c"}) {
         const auto fileLines = lines(readFile(root + file));
-        ASSERT_FALSE(fileLines.empty()) << file;
+        EXPECT_FALSE(fileLines.empty()) << file;
         tested.insert(fileLines.begin(), fileLines.end());
     }
+    return tested;
+}
+
+// Checks every snippet line of `blocks` (from `file`) against the tested files; returns the languages seen.
+std::set<std::string> expectSnippetsAreTested(const std::vector<Block>& blocks, const std::string& file)
+{
+    const std::set<std::string> tested = testedLines();
     std::set<std::string> languages;
     for (const auto& block : blocks) {
         languages.insert(block.language);
@@ -84,10 +91,24 @@ TEST(Readme, UseItInYourRendererShowsTheTestedCode)
             const std::string& line = block.lines[i];
             if (line.empty()) continue;
             if (block.language == "cmake" && line.rfind("# ", 0) == 0) continue;
-            EXPECT_TRUE(tested.count(line)) << "README.md:" << block.firstLine + i << " is not in the tested examples:\n" << line;
+            EXPECT_TRUE(tested.count(line)) << file << ":" << block.firstLine + i << " is not in the tested examples:\n" << line;
         }
     }
-    EXPECT_EQ(languages, (std::set<std::string>{"cmake", "glsl", "c"}));
+    return languages;
+}
+
+TEST(Readme, UseItInYourRendererShowsTheTestedCode)
+{
+    const std::vector<Block> blocks = snippetsOf(readFile(std::string(OAS_SOURCE_DIR) + "/README.md"), "## Use it in your renderer");
+    ASSERT_GE(blocks.size(), 3u) << "the section or its code blocks are missing";
+    EXPECT_EQ(expectSnippetsAreTested(blocks, "README.md"), (std::set<std::string>{"cmake", "glsl", "c"}));
+}
+
+TEST(Readme, EmbeddingGuideShowsTheTestedCode)
+{
+    const std::vector<Block> blocks = snippetsOf(readFile(std::string(OAS_SOURCE_DIR) + "/docs/EMBEDDING.md"), "");
+    ASSERT_GE(blocks.size(), 7u) << "docs/EMBEDDING.md or its code blocks are missing";
+    EXPECT_EQ(expectSnippetsAreTested(blocks, "docs/EMBEDDING.md"), (std::set<std::string>{"cmake", "glsl", "c"}));
 }
 
 TEST(Readme, TheCheckCatchesADriftedLine)

@@ -45,7 +45,7 @@ static void expectRejected(uint32_t code, uint32_t spp, uint32_t strength, uint3
     }
 }
 
-/* The README's C example, verbatim (tests/readme_test.cpp checks the README shows these lines). */
+/* The C example of README.md and docs/EMBEDDING.md, verbatim (tests/readme_test.cpp checks they show these lines). */
 static int readmeExample(void)
 {
     OasPattern pattern;
