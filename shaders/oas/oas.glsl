@@ -24,7 +24,8 @@
 //   Before including, define either OAS_SOBOL_DIRECTION(dim, bit) (the Sobol baseline reads its
 //   direction numbers through it: oas::sobolDirections() on the host, in a buffer) or
 //   OAS_NO_SOBOL (the shader never receives a Sobol pattern); with neither it is a compile error.
-//   Targets without umulExtended may define OAS_MULHI(a, b), e.g. as oas_mulhi_portable.
+//   Targets without umulExtended may define OAS_MULHI(a, b), e.g. as oas_mulhi_portable
+//   (oas_intdiv.glsl).
 //   Macros: the library's struct members, parameters and locals are short names, so an
 //   object-like macro of the includer with one of these names, defined before the include,
 //   breaks it (tests/embedding_test.cpp checks this list against glslangValidator):
@@ -129,6 +130,9 @@
 #endif
 
 #include "oas_hash.glsl"
+#include "oas_intdiv.glsl"
+#include "oas_permute.glsl"
+#include "oas_strata.glsl"
 #include "oas_gf.glsl"
 #include "oas_pattern.glsl"
 #include "oas_oa.glsl"
