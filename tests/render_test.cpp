@@ -388,9 +388,10 @@ TEST_F(RenderGpu, AgreesWithTheCpuReference)
 TEST_F(RenderGpu, SceneFeatureSpecialisationKeepsEverySumBitForBit)
 {
     // The kernel compiles away the shape types, conductor materials and point/spot lights a scene
-    // lacks (pt_trace.glsl, PT_SCENE_FEATURES). The code that remains is the same, so every shipped
-    // scene, which between them have every feature and lack each of them somewhere, gives the same
-    // exact sums, word for word, with and without the specialisation.
+    // lacks (PT_SCENE_FEATURES: pt_trace.glsl, read by pt_intersect, pt_bsdf and pt_light.glsl). The
+    // code that remains is the same, so every shipped scene, which between them have every feature
+    // and lack each of them somewhere, gives the same exact sums, word for word, with and without
+    // the specialisation.
     bool sawSpecialised = false;
     for (const char* name : {"cornell7d.json", "blue_spheres9d.json", "interior_deep.json", "furnace.json",
                              "plane_rect_light.json", "mesh_demo.json"}) {

@@ -43,7 +43,7 @@ DimensionPlan planDimensions(const scene::Scene& scene)
     if (plan.rouletteStart != 0 && plan.rouletteStart < plan.maxDepth) plan.roulette = offset++;
     plan.vertexStride = (offset + 1) & ~1u;
     if (plan.vertexBase > kMaxGroupDims || plan.vertexStride > kMaxGroupDims)
-        throw std::logic_error("planDimensions: a dimension group exceeds kMaxGroupDims (pt_trace.glsl PT_GROUP_MAX)");
+        throw std::logic_error("planDimensions: a dimension group exceeds kMaxGroupDims (pt_sample_dims.glsl PT_GROUP_MAX)");
 
     auto add = [&](const std::string& name, std::uint32_t first, std::uint32_t count) {
         plan.entries.push_back({name, first, count});

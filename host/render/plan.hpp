@@ -17,7 +17,7 @@ namespace oas::render {
 
 // kAbsent, a dimension the plan does not have, is render/pt_constants.hpp's (the shaders' PT_ABSENT).
 /// Most dimensions of one group (the camera's, or one path vertex's): PT_GROUP_MAX in
-/// shaders/pt/pt_trace.glsl, which fetches a group at a time.
+/// shaders/pt/pt_sample_dims.glsl, whose pt_group_dims fetches a group at a time.
 constexpr std::uint32_t kMaxGroupDims = 8;
 
 struct DimensionPlan {
@@ -30,7 +30,8 @@ struct DimensionPlan {
     std::uint32_t usedDims = 0;  ///< the integrand's dimension: sum of counts
     std::uint32_t sampleDims = 0;  ///< dimensions the sampler must provide (incl. alignment gaps)
 
-    // Layout read by the shaders (pt_trace.glsl): camera dims, then one group per path vertex.
+    // Layout read by the shaders (pt/pt_sample_dims.glsl, pt_light.glsl, pt_integrator.glsl): camera
+    // dims, then one group per path vertex.
     bool hasLens = false, hasMotion = false, hasDielectric = false;
     bool nee = true, mis = true;
     std::uint32_t maxDepth = 1, rouletteStart = 0;

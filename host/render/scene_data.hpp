@@ -16,8 +16,9 @@ struct SceneData {
     pt::PtGlobals globals{};
 };
 
-/// What the flattened scene contains, for the GPU kernel's specialization (pt_trace.glsl,
-/// PT_SCENE_FEATURES): code for what is absent compiles away.
+/// What the flattened scene contains, for the GPU kernel's specialization (PT_SCENE_FEATURES in
+/// shaders/pt/pt_trace.glsl, read by pt_intersect.glsl, pt_bsdf.glsl and pt_light.glsl): code for
+/// what is absent compiles away.
 struct SceneFeatures {
     bool spheres = false, quads = false, triangles = false;
     bool conductors = false;   ///< conductor materials (smooth or GGX)

@@ -119,7 +119,7 @@ OasDraw pt_cpu_group_dims(PtSampleState st, uint first, uint count)
 }
 
 }  // namespace shared
-static_assert(shared::PT_GROUP_MAX == kMaxGroupDims, "pt_trace.glsl and plan.hpp disagree on the group size");
+static_assert(shared::PT_GROUP_MAX == kMaxGroupDims, "pt_sample_dims.glsl and plan.hpp disagree on the group size");
 
 }  // namespace
 

@@ -24,7 +24,8 @@
 //   Before including, define either OAS_SOBOL_DIRECTION(dim, bit) (the Sobol baseline reads its
 //   direction numbers through it: oas::sobolDirections() on the host, in a buffer) or
 //   OAS_NO_SOBOL (the shader never receives a Sobol pattern); with neither it is a compile error.
-//   Targets without umulExtended may define OAS_MULHI(a, b), e.g. as oas_mulhi_portable.
+//   Targets without umulExtended may define OAS_MULHI(a, b), e.g. as oas_mulhi_portable
+//   (oas_intdiv.glsl).
 //   Macros: the library's struct members, parameters and locals are short names, so an
 //   object-like macro of the includer with one of these names, defined before the include,
 //   breaks it (tests/embedding_test.cpp checks this list against glslangValidator):
@@ -95,13 +96,14 @@
 //   - Fixed work. Each loop's trip count is the largest case the numeric contract allows: 12 bits
 //     of a GF(2^k) element, 5 digits of an odd extension field's element, t <= 8 Bush digits, 12
 //     exponent bits of an inverse, 5 exponent bits of CMJND's digit place, 24 bits of a (0,2)
-//     index, 24 Halton digits (15 for any base, 9 more for base 2), 32 bits of a Sobol index. Steps past the pattern's own k, t or digit count are
-//     masked. A value therefore costs the same for every pattern of a kind, and lanes stay in
-//     lock step.
+//     index, 24 Halton digits (15 for any base, 9 more for base 2), 32 bits of a Sobol index.
+//     Steps past the pattern's own k, t or digit count are masked. A value therefore costs the
+//     same for every pattern of a kind, and lanes stay in lock step.
 //   - Fetch the dimensions you need at one call site, not at every use: one oas_draw per group
-//     of dimensions, in a loop over the groups (shaders/pt/pt_trace.glsl calls it once, for the
-//     camera and every path vertex). GPU compilers inline the whole sampler wherever it is
-//     called, which made a path tracer's pipeline build take 20 s on lavapipe instead of 1.5 s.
+//     of dimensions, in a loop over the groups (shaders/pt/pt_sample_dims.glsl calls it once, for
+//     the camera and every path vertex). GPU compilers inline the whole sampler wherever it is
+//     called: a path tracer that calls it at every use takes 20 s to build its pipeline on
+//     lavapipe, against 1.5 s with one call site.
 //
 // NUMERIC CONTRACT
 //   Outputs are F * 2^-24 with integer F in [0, 2^24). A point promised to stratum m of K strata
@@ -129,6 +131,9 @@
 #endif
 
 #include "oas_hash.glsl"
+#include "oas_intdiv.glsl"
+#include "oas_permute.glsl"
+#include "oas_strata.glsl"
 #include "oas_gf.glsl"
 #include "oas_pattern.glsl"
 #include "oas_oa.glsl"

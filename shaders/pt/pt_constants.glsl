@@ -13,7 +13,7 @@
 //                       from the same specialization() (the CPU tracer's "specialization")
 //
 // A specialization-constant entry is X(NAME, ID, TYPE, DEFAULT, HOST):
-//   NAME     the identifier pt_trace.glsl and pt_render.comp read
+//   NAME     the identifier the tracer (pt/pt_*.glsl) and pt_render.comp read
 //   ID       its constant_id in pt_render.comp
 //   TYPE     bool or uint (the GLSL type; the same spelling in C++)
 //   DEFAULT  the value a pipeline gets without specialization (also PtSpecialization's initializer)
@@ -62,8 +62,9 @@ const uint PT_ABSENT = 0xffffffffu;
 #define PT_KERNEL_CONSTANTS(X) \
     X(PT_STAGE, 30, uint, 0u, stage)
 
-/// The scene's features (host/render/scene_data.hpp SceneFeatures; pt/pt_trace.glsl): the
-/// defaults keep every path, the GPU kernel compiles away what the scene lacks.
+/// The scene's features (host/render/scene_data.hpp SceneFeatures; defaults in pt/pt_trace.glsl,
+/// tests in pt_intersect, pt_bsdf and pt_light.glsl): the defaults keep every path, the GPU kernel
+/// compiles away what the scene lacks.
 #define PT_SCENE_FEATURE_CONSTANTS(X) \
     X(PT_HAS_SPHERES, 31, bool, true, features.spheres) \
     X(PT_HAS_QUADS, 32, bool, true, features.quads) \
