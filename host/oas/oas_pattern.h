@@ -57,9 +57,12 @@ enum {
     OAS_MAX_BOSE_Q = 4096,     /**< q^2 <= 2^24 */
     OAS_MAX_FIELD_Q = 65535,   /**< products of two field elements fit 32 bits */
     OAS_MAX_STRENGTH = 24,
-    OAS_HALTON_BLOCK_DIMS = 32,
-    OAS_SOBOL_BLOCK_DIMS = 1024    /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc) */
+    OAS_HALTON_BLOCK_DIMS = 32,    /**< the GLSL's OAS_HALTON_BLOCK (oas_baselines.glsl) */
+    OAS_SOBOL_BLOCK_DIMS = 1024    /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc);
+                                        the GLSL's OAS_SOBOL_BLOCK */
 };
+/* GLSL cannot include this header, so shaders/oas restates the codes, offsets and block sizes;
+ * tests/pattern_test.cpp compiles the GLSL as C++ and static_asserts each value against these. */
 
 /** Status codes (0 is success). */
 enum {
