@@ -1,5 +1,6 @@
 #include "spectrum.hpp"
 
+#include "oas/oas_pattern.h"
 #include "oas/periodogram.hpp"
 
 #include <algorithm>
@@ -102,8 +103,10 @@ std::vector<ProjectionPair> projectionPairs(const SamplerSpec& spec, const oas::
     // First dimension of the second block. Pairs within a block of a strength-t OA are
     // stratified (Jarosz et al. 2019, Sec. 4); the pair across blocks shows what padding leaves.
     std::uint32_t block = pattern.blockDims ? pattern.blockDims : 2;
-    if (spec.sampler == "halton") block = 32;  // OAS_HALTON_BLOCK in shaders/oas/oas_baselines.glsl
-    if (spec.sampler == "sobol") block = 1024;  // OAS_SOBOL_BLOCK
+    // The baselines' block sizes are the library's (oas_pattern.h; the GLSL's OAS_HALTON_BLOCK and
+    // OAS_SOBOL_BLOCK equal them, tests/pattern_test.cpp checks).
+    if (spec.sampler == "halton") block = OAS_HALTON_BLOCK_DIMS;
+    if (spec.sampler == "sobol") block = OAS_SOBOL_BLOCK_DIMS;
     if (spec.sampler == "random") block = 1;
     const std::pair<std::uint32_t, std::uint32_t> candidates[] = {{0, 1}, {0, 2}, {1, 5}, {0, block}};
     std::vector<ProjectionPair> out;

@@ -159,6 +159,11 @@ static const struct {
 };
 #define OASP_NAME_COUNT (sizeof oasp_names / sizeof oasp_names[0])
 
+uint32_t oas_construction_at(size_t index)
+{
+    return index < OASP_NAME_COUNT ? oasp_names[index].code : 0;
+}
+
 int oas_construction_from_name(const char* name, uint32_t* construction)
 {
     size_t i;
@@ -346,6 +351,82 @@ int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uin
     pat.recipShifts = shiftS | (shiftP << 8) | (shiftN << 16);
     *out = pat;
     return OAS_PATTERN_OK;
+}
+
+/* ---- valid sample counts ------------------------------------------------------------------ */
+
+/* The counts in [lo, hi] seen so far; n arrive in ascending order. */
+typedef struct {
+    uint32_t lo, hi;
+    uint32_t* out;
+    size_t capacity, count;
+} OaspCounts;
+
+/* Records n (when it lies in [lo, hi]); returns 0 once n is past hi, so that loops over growing
+ * q can stop. */
+static int oasp_count(OaspCounts* c, uint32_t n)
+{
+    if (n > c->hi) return 0;
+    if (n < c->lo) return 1;
+    if (c->count < c->capacity) c->out[c->count] = n;
+    ++c->count;
+    return 1;
+}
+
+/* The rules of oasp_fields, run forwards: each construction's N as a function of its q (or s),
+ * for the q the construction is defined for, within the limits oas_make_pattern enforces. */
+size_t oas_valid_counts(uint32_t construction, uint32_t strength, uint32_t lo, uint32_t hi,
+                        uint32_t* out, size_t capacity)
+{
+    OaspCounts c;
+    uint32_t q, n;
+    c.lo = lo < 1 ? 1 : lo;
+    c.hi = hi < OAS_MAX_SAMPLES ? hi : OAS_MAX_SAMPLES;
+    c.out = out;
+    c.capacity = out == NULL ? 0 : capacity;
+    c.count = 0;
+    if (oas_construction_name(construction) == NULL || strength > OAS_MAX_STRENGTH || c.lo > c.hi) return 0;
+    if (strength == 0) {
+        if (construction == OAS_CMJND) return 0; /* no default: the full factorial's d must be given */
+        strength = 2;
+    }
+    switch (construction) {
+    case OAS_BOSE:
+        /* Bose (1938): the lines of the affine plane over GF(q) give OA(q^2, q+1, q, 2) for every
+         * prime power q; q <= OAS_MAX_BOSE_Q keeps q^2 within OAS_MAX_SAMPLES. */
+        if (strength != 2) return 0;
+        for (q = 2; q <= OAS_MAX_BOSE_Q; ++q)
+            if (oas_prime_power(q, NULL, NULL) && oasp_field_supported(q, NULL, 0) && !oasp_count(&c, q * q)) break;
+        return c.count;
+    case OAS_BUSH:
+        /* Bush (1952): polynomials of degree < t over GF(q) give OA(q^t, q+1, q, t) for a prime
+         * power q >= t (strength 2 gives Bose's counts). */
+        if (strength < 2) return 0;
+        for (q = strength; (n = oasp_pow_capped(q, strength, OAS_MAX_SAMPLES)) != 0; ++q)
+            if (oas_prime_power(q, NULL, NULL) && oasp_field_supported(q, NULL, 0) && !oasp_count(&c, n)) break;
+        return c.count;
+    case OAS_BOSE_BUSH:
+        /* Bose and Bush (1952): OA(2q^2, 2q+1, q, 2) from GF(2q) for q a power of two. */
+        if (strength != 2) return 0;
+        for (q = 2; 2 * q * q <= OAS_MAX_SAMPLES; q *= 2)
+            if (!oasp_count(&c, 2 * q * q)) break;
+        return c.count;
+    case OAS_ADDELMAN_KEMPTHORNE:
+        /* Addelman and Kempthorne (1961): OA(2q^2, 2q+1, q, 2) for q an odd prime power (their
+         * second half uses a non-square of GF(q), which only odd q have). */
+        if (strength != 2) return 0;
+        for (q = 3; 2 * q * q <= OAS_MAX_SAMPLES; q += 2)
+            if (oas_prime_power(q, NULL, NULL) && oasp_field_supported(q, NULL, 0) && !oasp_count(&c, 2 * q * q)) break;
+        return c.count;
+    case OAS_CMJND:
+        /* The full factorial OA(s^d, d, s, d) of Jarosz et al. (EGSR 2019, CMJND): any s >= 2. */
+        for (q = 2; (n = oasp_pow_capped(q, strength, OAS_MAX_SAMPLES)) != 0; ++q)
+            if (!oasp_count(&c, n)) break;
+        return c.count;
+    default: /* the baselines take any N */
+        for (n = c.lo; n - c.lo < c.capacity && n <= c.hi; ++n) c.out[n - c.lo] = n;
+        return (size_t)(c.hi - c.lo) + 1;
+    }
 }
 
 /* ---- Sobol direction numbers --------------------------------------------------------------- */

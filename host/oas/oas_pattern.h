@@ -22,7 +22,9 @@
 extern "C" {
 #endif
 
-/** Byte for byte the GLSL struct OasPattern (shaders/oas/oas_pattern.glsl). */
+/** Byte for byte the GLSL struct OasPattern (shaders/oas/oas_pattern.glsl): the same sixteen
+ *  uint32_t in the same order under the same names (tests/pattern_test.cpp reads both sources and
+ *  compares the field lists). The C++ oas::Pattern derives from this struct rather than restating it. */
 typedef struct OasPattern {
     uint32_t construction; /**< OAS_BOSE ... OAS_SOBOL */
     uint32_t offset;       /**< OAS_OFFSET_* (0 for the baselines) */
@@ -55,9 +57,12 @@ enum {
     OAS_MAX_BOSE_Q = 4096,     /**< q^2 <= 2^24 */
     OAS_MAX_FIELD_Q = 65535,   /**< products of two field elements fit 32 bits */
     OAS_MAX_STRENGTH = 24,
-    OAS_HALTON_BLOCK_DIMS = 32,
-    OAS_SOBOL_BLOCK_DIMS = 1024    /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc) */
+    OAS_HALTON_BLOCK_DIMS = 32,    /**< the GLSL's OAS_HALTON_BLOCK (oas_baselines.glsl) */
+    OAS_SOBOL_BLOCK_DIMS = 1024    /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc);
+                                        the GLSL's OAS_SOBOL_BLOCK */
 };
+/* GLSL cannot include this header, so shaders/oas restates the codes, offsets and block sizes;
+ * tests/pattern_test.cpp compiles the GLSL as C++ and static_asserts each value against these. */
 
 /** Status codes (0 is success). */
 enum {
@@ -76,11 +81,32 @@ enum {
 int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uint32_t offset,
                      OasPattern* out, char* why, size_t whyLen);
 
+/** The constructions in their listing order, the orthogonal arrays first: index 0, 1, ... gives
+ *  each code once, then 0 past the last. Tools list samplers in this order. */
+uint32_t oas_construction_at(size_t index);
 /** Construction code for a sampler name ("bose", "bush", "bose-bush", "addelman-kempthorne",
  *  "cmjnd", "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"); 0 on success. */
 int oas_construction_from_name(const char* name, uint32_t* construction);
 /** The sampler name of a construction code, or NULL. */
 const char* oas_construction_name(uint32_t construction);
+
+/**
+ * The sample counts n in [lo, hi] for which oas_make_pattern(construction, n, strength, ...)
+ * succeeds, ascending: the first `capacity` of them are written to out (which may be NULL when
+ * capacity is 0) and the return value is how many there are in all, so a caller can size a
+ * buffer with a first call. Stated from the construction rules rather than found by trial builds:
+ *   bose                OA(q^2, q+1, q, 2), t = 2: n = q^2, q a prime power <= OAS_MAX_BOSE_Q;
+ *   bush                OA(q^t, q+1, q, t), t >= 2: n = q^t <= OAS_MAX_SAMPLES, q a prime power >= t;
+ *   bose-bush           OA(2q^2, 2q+1, q, 2), t = 2: n = 2q^2 <= OAS_MAX_SAMPLES, q = 2^k >= 2;
+ *   addelman-kempthorne OA(2q^2, 2q+1, q, 2), t = 2: n = 2q^2 <= OAS_MAX_SAMPLES, q an odd prime power;
+ *   cmjnd               OA(s^t, t, s, t), t >= 1: n = s^t <= OAS_MAX_SAMPLES, any s >= 2;
+ *   the baselines       any n in 1 .. OAS_MAX_SAMPLES;
+ * and for the OA constructions over GF(q) only the fields whose products the shaders can form in
+ * one 32-bit word. `strength` 0 means the default, as for oas_make_pattern (2; none for cmjnd,
+ * which then has no counts); an unknown construction or strength > OAS_MAX_STRENGTH has none.
+ */
+size_t oas_valid_counts(uint32_t construction, uint32_t strength, uint32_t lo, uint32_t hi,
+                        uint32_t* out, size_t capacity);
 
 /** q = p^k with p prime: returns 1 and sets *p, *k; else 0. */
 int oas_prime_power(uint32_t q, uint32_t* p, uint32_t* k);

@@ -3,8 +3,6 @@
 #include "oas/pattern.hpp"
 
 #include <algorithm>
-#include <cstring>
-#include <map>
 #include <sstream>
 
 #include "oas/oas_pattern.h"
@@ -38,38 +36,28 @@ std::string offsetName(std::uint32_t code)
     return code < 4 ? names[code] : "?";
 }
 
-struct SamplerInfo {
-    std::uint32_t code;
-    const char* description;
-};
-
-const std::map<std::string, SamplerInfo>& samplerTable()
+/// The construction code of a sampler name; the names are the C builder's table
+/// (oas_construction_name), the only one.
+std::uint32_t samplerCode(const std::string& name)
 {
-    static const std::map<std::string, SamplerInfo> table = {
-        {"bose", {OAS_BOSE, "Bose OA(q^2, q+1, q, 2), q prime power <= 4096: N = 4, 9, 16, 25, 49, 64, 81, 121 ..."}},
-        {"bush", {OAS_BUSH, "Bush OA(q^t, q+1, q, t), q prime power >= t: strength t"}},
-        {"bose-bush", {OAS_BOSE_BUSH, "Bose-Bush OA(2q^2, 2q+1, q, 2), q = 2^k: N = 8, 32, 128, 512, 2048 ..."}},
-        {"addelman-kempthorne", {OAS_ADDELMAN_KEMPTHORNE, "Addelman-Kempthorne OA(2q^2, 2q+1, q, 2), q odd prime power: N = 18, 50, 98, 162 ..."}},
-        {"cmjnd", {OAS_CMJND, "CMJND OA(s^d, d, s, d): full factorial, any s >= 2, strength d"}},
-        {"random", {OAS_RANDOM, "independent uniform random (baseline)"}},
-        {"jittered2d", {OAS_JITTERED_2D, "jittered nx*ny grid per dimension pair, padded (baseline)"}},
-        {"cmj2d", {OAS_CMJ_2D, "correlated multi-jittered 2D per pair, padded (Kensler 2013; baseline)"}},
-        {"zerotwo", {OAS_ZERO_TWO, "Owen-scrambled (0,2)-sequence per pair, padded (baseline)"}},
-        {"halton", {OAS_HALTON, "Halton with random digit permutations, blocks of 32 dims (baseline)"}},
-        {"sobol", {OAS_SOBOL, "Owen-scrambled Sobol, blocks of 1024 dims (baseline; Joe-Kuo direction numbers)"}},
-    };
-    return table;
-}
-
-const SamplerInfo& samplerInfo(const std::string& name)
-{
-    auto it = samplerTable().find(name);
-    if (it == samplerTable().end()) {
+    std::uint32_t code = 0;
+    if (oas_construction_from_name(name.c_str(), &code) != 0) {
         std::string list = "oa";
         for (auto& n : samplerNames()) list += ", " + n;
         throw InvalidArgument("sampler '" + name + "' is unknown: valid samplers are " + list);
     }
-    return it->second;
+    return code;
+}
+
+/// The first `count` sample counts of a construction at strength 2, "a, b, c ...", from the C
+/// builder's rules (oas_valid_counts), for the descriptions.
+std::string firstCounts(std::uint32_t code, std::size_t count)
+{
+    std::vector<std::uint32_t> counts(count);
+    counts.resize(std::min(count, oas_valid_counts(code, 2, 1, OAS_MAX_SAMPLES, counts.data(), count)));
+    std::string out;
+    for (auto c : counts) out += std::to_string(c) + ", ";
+    return out.substr(0, out.size() - 2) + " ...";
 }
 
 std::uint32_t defaultStrength(std::uint32_t code, std::uint32_t dims)
@@ -89,11 +77,8 @@ Pattern exactPattern(std::uint32_t code, std::uint32_t spp, std::uint32_t t, std
         why = reason;
         return Pattern{};
     }
-    Pattern pat;
-    std::memcpy(static_cast<void*>(&pat), &built, sizeof pat);  // same 16 words
-    return pat;
+    return Pattern(built);
 }
-static_assert(sizeof(OasPattern) == sizeof(Pattern), "oas::Pattern mirrors the C OasPattern");
 
 std::string countList(const std::vector<std::uint32_t>& counts)
 {
@@ -122,8 +107,9 @@ void checkCommon(const PatternRequest& r)
     if (r.dims < 1 || r.dims > kMaxDims)
         throw InvalidArgument("dims " + std::to_string(r.dims) + " is out of range: valid 1 .. " +
                               std::to_string(kMaxDims));
-    if (r.strength > 24)
-        throw InvalidArgument("strength " + std::to_string(r.strength) + " is out of range: valid 2 .. 24");
+    if (r.strength > OAS_MAX_STRENGTH)
+        throw InvalidArgument("strength " + std::to_string(r.strength) + " is out of range: valid 2 .. " +
+                              std::to_string(OAS_MAX_STRENGTH));
 }
 
 }  // namespace
@@ -148,26 +134,49 @@ Divisor makeDivisor(std::uint32_t d)
 
 const std::vector<std::string>& samplerNames()
 {
-    static const std::vector<std::string> names = {"bose", "bush", "bose-bush", "addelman-kempthorne", "cmjnd",
-                                                   "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"};
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> out;
+        for (std::size_t i = 0; oas_construction_at(i) != 0; ++i) out.push_back(oas_construction_name(oas_construction_at(i)));
+        return out;
+    }();
     return names;
 }
 
 std::string samplerDescription(const std::string& name)
 {
     if (name == "oa") return "the best orthogonal array for (spp, dims, strength), chosen and explained";
-    return samplerInfo(name).description;
+    const std::uint32_t code = samplerCode(name);
+    switch (code) {
+    case OAS_BOSE:
+        return "Bose OA(q^2, q+1, q, 2), q prime power <= " + std::to_string(OAS_MAX_BOSE_Q) + ": N = " +
+               firstCounts(code, 8);
+    case OAS_BUSH: return "Bush OA(q^t, q+1, q, t), q prime power >= t: strength t";
+    case OAS_BOSE_BUSH: return "Bose-Bush OA(2q^2, 2q+1, q, 2), q = 2^k: N = " + firstCounts(code, 5);
+    case OAS_ADDELMAN_KEMPTHORNE:
+        return "Addelman-Kempthorne OA(2q^2, 2q+1, q, 2), q odd prime power: N = " + firstCounts(code, 4);
+    case OAS_CMJND: return "CMJND OA(s^d, d, s, d): full factorial, any s >= 2, strength d";
+    case OAS_RANDOM: return "independent uniform random (baseline)";
+    case OAS_JITTERED_2D: return "jittered nx*ny grid per dimension pair, padded (baseline)";
+    case OAS_CMJ_2D: return "correlated multi-jittered 2D per pair, padded (Kensler 2013; baseline)";
+    case OAS_ZERO_TWO: return "Owen-scrambled (0,2)-sequence per pair, padded (baseline)";
+    case OAS_HALTON:
+        return "Halton with random digit permutations, blocks of " + std::to_string(OAS_HALTON_BLOCK_DIMS) +
+               " dims (baseline)";
+    case OAS_SOBOL:
+        return "Owen-scrambled Sobol, blocks of " + std::to_string(OAS_SOBOL_BLOCK_DIMS) +
+               " dims (baseline; Joe-Kuo direction numbers)";
+    }
+    return name;  // a construction the C builder names but this list does not describe yet
 }
 
 bool isOrthogonalArray(const std::string& name)
 {
-    return name == "oa" || samplerInfo(name).code < OAS_RANDOM;
+    return name == "oa" || samplerCode(name) < OAS_RANDOM;
 }
 
 std::string constructionName(std::uint32_t construction)
 {
-    for (auto& [name, info] : samplerTable())
-        if (info.code == construction) return name;
+    if (const char* name = oas_construction_name(construction)) return name;
     return "unknown(" + std::to_string(construction) + ")";
 }
 
@@ -205,32 +214,12 @@ std::vector<std::uint32_t> validCounts(const std::string& sampler, std::uint32_t
         out.erase(std::unique(out.begin(), out.end()), out.end());
         return out;
     }
-    const SamplerInfo& info = samplerInfo(sampler);
-    const std::uint32_t t = strength ? strength : defaultStrength(info.code, dims);
-    hi = std::min(hi, kMaxSamples);
-    auto consider = [&](std::uint64_t n) {
-        if (n < lo || n > hi) return;
-        std::string why;
-        if (exactPattern(info.code, std::uint32_t(n), t, 0, why).N != 0) out.push_back(std::uint32_t(n));
-    };
-    switch (info.code) {
-    case OAS_BOSE:
-    case OAS_BOSE_BUSH:
-    case OAS_ADDELMAN_KEMPTHORNE:
-        for (std::uint64_t q = 2; q <= 4096; ++q) consider(info.code == OAS_BOSE ? q * q : 2 * q * q);
-        break;
-    case OAS_BUSH:
-    case OAS_CMJND:
-        for (std::uint32_t q = 2; q <= kMaxSamples; ++q) {
-            const std::uint32_t n = powCapped(q, t, kMaxSamples);
-            if (n == 0) break;
-            consider(n);
-        }
-        break;
-    default:
-        for (std::uint64_t n = lo; n <= hi && out.size() < 64; ++n) consider(n);
-    }
-    std::sort(out.begin(), out.end());
+    const std::uint32_t code = samplerCode(sampler);
+    const std::uint32_t t = strength ? strength : defaultStrength(code, dims);
+    // The baselines take every count: list the first 64 of the range, enough for any message.
+    const std::size_t total = oas_valid_counts(code, t, lo, hi, nullptr, 0);
+    out.resize(code >= OAS_RANDOM ? std::min<std::size_t>(total, 64) : total);
+    oas_valid_counts(code, t, lo, hi, out.data(), out.size());
     return out;
 }
 
@@ -238,23 +227,22 @@ Pattern makePattern(const PatternRequest& request)
 {
     checkCommon(request);
     if (request.sampler == "oa") return chooseOrthogonalArray(request).pattern;
-    const SamplerInfo& info = samplerInfo(request.sampler);
+    const std::uint32_t code = samplerCode(request.sampler);
     const std::uint32_t offset = offsetCode(request.offset);
-    const std::uint32_t t = request.strength ? request.strength : defaultStrength(info.code, request.dims);
-    if (info.code == OAS_CMJND && request.strength == 0 && request.dims > 24)
+    const std::uint32_t t = request.strength ? request.strength : defaultStrength(code, request.dims);
+    if (code == OAS_CMJND && request.strength == 0 && request.dims > 24)
         throw InvalidArgument("cmjnd: dims " + std::to_string(request.dims) +
                               " is too many for one full factorial (s^d <= 2^24 needs d <= 24); pass --strength d to pad with blocks of d dims");
-    const bool strengthTwoOnly = info.code == OAS_BOSE || info.code == OAS_BOSE_BUSH ||
-                                 info.code == OAS_ADDELMAN_KEMPTHORNE;
+    const bool strengthTwoOnly = code == OAS_BOSE || code == OAS_BOSE_BUSH || code == OAS_ADDELMAN_KEMPTHORNE;
     if (strengthTwoOnly && t != 2)
         throw InvalidArgument("sampler '" + request.sampler + "' has strength 2 only (strength " + std::to_string(t) +
                               " asked): use bush or cmjnd for strength 3 and more");
     std::string why;
-    Pattern pat = exactPattern(info.code, request.spp, t, offset, why);
+    Pattern pat = exactPattern(code, request.spp, t, offset, why);
     if (pat.N != 0) return pat;
     const auto near = nearestCounts(request.sampler, t, request.dims, request.spp);
     if (request.roundUp && !near.empty() && near.back() > request.spp)
-        return exactPattern(info.code, near.back(), t, offset, why);
+        return exactPattern(code, near.back(), t, offset, why);
     throw InvalidArgument("sampler '" + request.sampler + "' (strength " + std::to_string(t) +
                           ") cannot make exactly spp " + std::to_string(request.spp) + ": " + why +
                           "; nearest valid spp: " + countList(near) +
@@ -273,7 +261,7 @@ Choice chooseOrthogonalArray(const PatternRequest& request)
     auto candidatesFor = [&](std::uint32_t spp) {
         std::vector<Candidate> found;
         for (auto& name : samplerNames()) {
-            const std::uint32_t code = samplerInfo(name).code;
+            const std::uint32_t code = samplerCode(name);
             if (code >= OAS_RANDOM) continue;
             std::vector<std::uint32_t> strengths;
             if (code == OAS_BUSH || code == OAS_CMJND)

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "oas/oas_pattern.h"
+
 namespace oas {
 
 /// Bad parameters: the message names the parameter, the value and the valid range or nearest
@@ -16,11 +18,13 @@ struct InvalidArgument : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Byte-for-byte the GLSL struct OasPattern (shaders/oas/oas_pattern.glsl); upload as is.
-struct Pattern {
-    std::uint32_t construction = 0, offset = 0, N = 0, s = 0, strength = 0, blockDims = 0;
-    std::uint32_t fieldP = 0, fieldK = 0, fieldQ = 0, fieldPoly = 0, aux = 0, aux2 = 0;
-    std::uint32_t recipS = 0, recipP = 0, recipN = 0, recipShifts = 0;
+/// The C builder's OasPattern (oas/oas_pattern.h, byte for byte the GLSL struct of
+/// shaders/oas/oas_pattern.glsl); upload as is. Derived rather than restated, so the layout has
+/// one definition; the constructors only add what C lacks: zeroed words by default, and taking
+/// an OasPattern the C builder filled.
+struct Pattern : OasPattern {
+    Pattern() : OasPattern{} {}
+    Pattern(const OasPattern& built) : OasPattern(built) {}
 };
 
 /// Constants for oas_fastdiv (Granlund-Montgomery): floor(x / d) == oas_fastdiv(x, recip, shift).
@@ -28,14 +32,14 @@ struct Divisor {
     std::uint32_t recip = 0, shift = 0;
 };
 Divisor makeDivisor(std::uint32_t d);
-static_assert(sizeof(Pattern) == 64);
+static_assert(sizeof(Pattern) == sizeof(OasPattern), "oas::Pattern adds no words to OasPattern");
 
 /// Largest points per pixel: the exact-strata limit (K <= 2^24 strata per dimension).
-constexpr std::uint32_t kMaxSamples = 1u << 24;
+constexpr std::uint32_t kMaxSamples = OAS_MAX_SAMPLES;
 /// Largest Bose q: q^2 <= 2^24.
-constexpr std::uint32_t kMaxBoseQ = 4096;
+constexpr std::uint32_t kMaxBoseQ = OAS_MAX_BOSE_Q;
 /// Field sizes stay below 2^16 so that products of two elements fit 32 bits.
-constexpr std::uint32_t kMaxFieldQ = 65535;
+constexpr std::uint32_t kMaxFieldQ = OAS_MAX_FIELD_Q;
 /// Most dimensions the tools generate per point (the library itself takes any 32-bit dim).
 constexpr std::uint32_t kMaxDims = 4096;
 
@@ -67,7 +71,7 @@ inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> specializationKey
     return {p.construction, p.offset, fieldKind(p)};
 }
 
-/// Sobol direction numbers, OAS_SOBOL_BLOCK (1024) dimensions x 32 bits, [dim * 32 + bit], bit 0
+/// Sobol direction numbers, OAS_SOBOL_BLOCK_DIMS (1024) dimensions x 32 bits, [dim * 32 + bit], bit 0
 /// the most significant. Dimension 0 is van der Corput; dimension j >= 1 is Joe and Kuo's
 /// dimension j + 1 (new-joe-kuo-6.21201, chosen for good 2D projections; the set scipy and pbrt
 /// use), so dimension 1 (x + 1, m = 1) makes the (0,2)-sequence with dimension 0. Unscrambled,
@@ -84,7 +88,8 @@ struct Choice {
 };
 Choice chooseOrthogonalArray(const PatternRequest& request);
 
-/// Sample counts in [lo, hi] the sampler makes exactly with this strength and dims.
+/// Sample counts in [lo, hi] the sampler makes exactly with this strength and dims: the C
+/// builder's rules (oas_valid_counts); for a baseline, which takes every count, the first 64.
 std::vector<std::uint32_t> validCounts(const std::string& sampler, std::uint32_t strength,
                                        std::uint32_t dims, std::uint32_t lo, std::uint32_t hi);
 

@@ -24,8 +24,10 @@ const uint OAS_OFFSET_MJ = 2u;        ///< multi-jittered: N-strata Latin hyperc
 const uint OAS_OFFSET_CMJ = 3u;       ///< correlated multi-jittered: one substratum permutation per dimension
 
 /// Everything a shader needs to evaluate one sampler. Sixteen uints (64 bytes), so it fits a push
-/// constant block or a std140/std430 buffer as is. Build it on the host (oas::makePattern in the
-/// C++ library), which validates the parameters; the shader trusts it.
+/// constant block or a std140/std430 buffer as is. Build it on the host (oas_make_pattern in C,
+/// oas::makePattern in C++), which validates the parameters; the shader trusts it. The host's
+/// struct is OasPattern in host/oas/oas_pattern.h, these words in this order: a field added here
+/// goes there too (tests/pattern_test.cpp reads both and fails when they differ).
 struct OasPattern {
     uint construction; ///< OAS_BOSE ... OAS_HALTON
     uint offset;       ///< OAS_OFFSET_* (OA constructions only)

@@ -99,6 +99,23 @@ int main(void)
     check(oas_construction_from_name(NULL, NULL) != 0 && oas_construction_from_name("Bose", NULL) != 0,
           "unknown names are rejected", 0);
     check(oas_construction_name(6) == NULL, "no name for code 6", 0);
+    /* The listing covers every named code once, then 0. */
+    for (i = 0; oas_construction_at(i) != 0; ++i) {
+        uint32_t code = 0;
+        check(oas_construction_from_name(oas_construction_name(oas_construction_at(i)), &code) == 0 &&
+                  code == oas_construction_at(i), "listed code -> name -> code", i);
+    }
+    check(i == 11 && oas_construction_at(0) == OAS_BOSE && oas_construction_at(10) == OAS_SOBOL, "11 constructions", i);
+    /* Valid counts from C (tests/pattern_test.cpp compares them with trial builds). */
+    {
+        uint32_t counts[8];
+        check(oas_valid_counts(OAS_BOSE, 0, 1, 100, counts, 8) == 7 && counts[0] == 4 && counts[6] == 81,
+              "bose counts 4 .. 81", 0);
+        check(oas_valid_counts(OAS_ADDELMAN_KEMPTHORNE, 2, 1, 200, counts, 8) == 4 && counts[3] == 162,
+              "addelman-kempthorne counts 18, 50, 98, 162", 0);
+        check(oas_valid_counts(OAS_BUSH, 3, 1, 1000, NULL, 0) == 6, "bush t=3: 27, 64, 125, 343, 512, 729", 0);
+        check(oas_valid_counts(6, 2, 1, 1000, NULL, 0) == 0, "no counts for code 6", 0);
+    }
     /* A short message buffer is truncated, still NUL-terminated. */
     check(oas_make_pattern(OAS_BOSE, 50, 0, 0, &p, tiny, sizeof tiny) == OAS_PATTERN_NOT_EXACT &&
               strlen(tiny) == sizeof tiny - 1, "truncated message", 0);
