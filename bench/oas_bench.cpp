@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "apps/cli_main.hpp"
 #include "oas/generate_gpu.hpp"
 #include "oas/pattern.hpp"
 
@@ -102,101 +103,103 @@ int main(int argc, char** argv)
     app.add_flag("--quick", quick, "1024 pixels, one repeat: a smoke run");
     app.add_flag("--no-gpu", noGpu, "CPU figures only");
     app.add_option("--only", only, "run only rows whose sampler name or label contains this text");
-    CLI11_PARSE(app, argc, argv);
-    if (quick) {
-        pixels = 1024;
-        repeats = 1;
-    }
-    const std::vector<Row> rows = {
-        {"bose", 121, 0, "cmj"},        {"bose", 121, 0, "mj"},        {"bose", 121, 0, "j"},
-        {"bose", 64, 0, "cmj"}, {"bush", 125, 3, "mj"},      {"bose-bush", 128, 0, "cmj"},
-        {"addelman-kempthorne", 98, 0, "cmj"}, {"addelman-kempthorne", 162, 0, "cmj"}, {"cmjnd", 256, 8, "cmj"},
-        {"random", 121, 0, "cmj"},
-        {"jittered2d", 121, 0, "cmj"}, {"cmj2d", 121, 0, "cmj"},       {"zerotwo", 128, 0, "cmj"},
-        {"halton", 121, 0, "cmj"},
-    };
-    std::unique_ptr<oas::vk::Context> context;
-    std::unique_ptr<oas::GpuGenerator> gpu, hashOnly;
-    if (!noGpu) {
-        oas::vk::selectLavapipeIfUnset();
-        try {
-            context = std::make_unique<oas::vk::Context>();
-            gpu = std::make_unique<oas::GpuGenerator>(*context);
-            hashOnly = std::make_unique<oas::GpuGenerator>(*context, oas::GpuGenerator::Kernel::HashOnly);
-        } catch (const oas::vk::NoDeviceError& e) {
-            std::printf("GPU: SKIPPED (no Vulkan device: %s)\n", e.what());
+    return oas::runCli("oas-bench", app, argc, argv, [&] {
+        if (quick) {
+            pixels = 1024;
+            repeats = 1;
         }
-    }
-    const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-    std::printf("oas-bench: %u pixels x spp x %u dims, median of %d; CPU threads: %u; GPU: %s\n", pixels, dims, repeats,
-                threads, context ? context->deviceName().c_str() : "none");
-    std::printf("%-34s %6s %14s %14s %14s %12s %10s\n", "sampler", "spp", "CPU 1 thr M/s", "CPU all M/s", "GPU M/s",
-                "GPU/hash", "build s");
-    // Whole-image CPU buffers get large; the CPU runs cover a slice of the pixels and scale.
-    const std::uint32_t cpuPixels = std::min<std::uint32_t>(pixels, 4096);
-    double hashRate = 0;
-    for (int pass = 0; pass < 2; ++pass) {
-        for (const Row& row : rows) {
-            if (pass == 0 && row.sampler != std::string("bose")) continue;  // ceiling first
-            if (pass == 1 && !only.empty() && std::string(row.sampler).find(only) == std::string::npos &&
-                oas::describe(oas::makePattern({row.sampler, row.spp, dims, row.strength, row.offset}))
-                        .find(only) == std::string::npos)
-                continue;
-            oas::PatternRequest req;
-            req.sampler = row.sampler;
-            req.spp = row.spp;
-            req.strength = row.strength;
-            req.dims = dims;
-            req.offset = row.offset;
-            const oas::Pattern pattern = oas::makePattern(req);
-            const oas::SampleRequest r = onePass(pattern, pixels, dims);
-            const double sampleDims = double(pixels) * r.spp * dims;
-            if (pass == 0) {
-                if (hashOnly) {
-                    hashOnly->run(pattern, r);  // warm-up: pipeline and buffer creation
-                    hashRate = sampleDims / medianSeconds(repeats, [&] { hashOnly->run(pattern, r); }) / 1e6;
-                    std::printf("%-34s %6u %14s %14s %14.1f %12s\n", "hash-only kernel (ceiling)", r.spp, "-", "-",
-                                hashRate, "1.00");
-                }
-                break;
+        const std::vector<Row> rows = {
+            {"bose", 121, 0, "cmj"},        {"bose", 121, 0, "mj"},        {"bose", 121, 0, "j"},
+            {"bose", 64, 0, "cmj"}, {"bush", 125, 3, "mj"},      {"bose-bush", 128, 0, "cmj"},
+            {"addelman-kempthorne", 98, 0, "cmj"}, {"addelman-kempthorne", 162, 0, "cmj"}, {"cmjnd", 256, 8, "cmj"},
+            {"random", 121, 0, "cmj"},
+            {"jittered2d", 121, 0, "cmj"}, {"cmj2d", 121, 0, "cmj"},       {"zerotwo", 128, 0, "cmj"},
+            {"halton", 121, 0, "cmj"},
+        };
+        std::unique_ptr<oas::vk::Context> context;
+        std::unique_ptr<oas::GpuGenerator> gpu, hashOnly;
+        if (!noGpu) {
+            oas::vk::selectLavapipeIfUnset();
+            try {
+                context = std::make_unique<oas::vk::Context>();
+                gpu = std::make_unique<oas::GpuGenerator>(*context);
+                hashOnly = std::make_unique<oas::GpuGenerator>(*context, oas::GpuGenerator::Kernel::HashOnly);
+            } catch (const oas::vk::NoDeviceError& e) {
+                std::printf("GPU: SKIPPED (no Vulkan device: %s)\n", e.what());
             }
-            oas::SampleRequest cr = r;
-            cr.width = cpuPixels;
-            std::vector<float> out(std::size_t(cpuPixels) * r.spp * dims);
-            const double cpuDims = double(cpuPixels) * r.spp * dims;
-            const std::uint32_t onePixels = std::max<std::uint32_t>(1, cpuPixels / 8);
-            oas::SampleRequest one = r;
-            one.width = onePixels;
-            const double cpu1 = double(onePixels) * r.spp * dims /
-                                medianSeconds(repeats, [&] { oas::generateCpu(pattern, one, out.data(), 1); }) / 1e6;
-            const double cpuN =
-                cpuDims / medianSeconds(repeats, [&] { oas::generateCpu(pattern, cr, out.data(), threads); }) / 1e6;
-            double gpuRate = 0, ratio = 0, buildSeconds = 0;
-            if (gpu) {
-                const double builtBefore = gpu->pipelineBuildSeconds();
-                gpu->run(pattern, r);
-                buildSeconds = gpu->pipelineBuildSeconds() - builtBefore;
-                if (hashOnly) hashOnly->run(pattern, r);  // warm-up: this layout's pipeline
-                std::vector<double> seconds, ratios;
-                for (int i = 0; i < repeats; ++i) {
-                    const double sampler = medianSeconds(1, [&] { gpu->run(pattern, r); });
-                    seconds.push_back(sampler);
-                    if (hashOnly) ratios.push_back(medianSeconds(1, [&] { hashOnly->run(pattern, r); }) / sampler);
-                }
-                std::sort(seconds.begin(), seconds.end());
-                std::sort(ratios.begin(), ratios.end());
-                gpuRate = sampleDims / seconds[seconds.size() / 2] / 1e6;
-                if (!ratios.empty()) ratio = ratios[ratios.size() / 2];
-            }
-            const std::string label = oas::describe(pattern).substr(0, 34);
-            if (gpu)
-                std::printf("%-34s %6u %14.1f %14.1f %14.1f %12.2f %10.2f\n", label.c_str(), r.spp, cpu1, cpuN, gpuRate,
-                            ratio, buildSeconds);
-            else
-                std::printf("%-34s %6u %14.1f %14.1f %14s %12s\n", label.c_str(), r.spp, cpu1, cpuN, "-", "-");
-            std::fflush(stdout);
         }
-    }
-    if (gpu && only.empty()) printSpecialisationCost(*context, pixels, dims, repeats);
-    return 0;
+        const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
+        std::printf("oas-bench: %u pixels x spp x %u dims, median of %d; CPU threads: %u; GPU: %s\n", pixels, dims,
+                    repeats, threads, context ? context->deviceName().c_str() : "none");
+        std::printf("%-34s %6s %14s %14s %14s %12s %10s\n", "sampler", "spp", "CPU 1 thr M/s", "CPU all M/s", "GPU M/s",
+                    "GPU/hash", "build s");
+        // Whole-image CPU buffers get large; the CPU runs cover a slice of the pixels and scale.
+        const std::uint32_t cpuPixels = std::min<std::uint32_t>(pixels, 4096);
+        double hashRate = 0;
+        for (int pass = 0; pass < 2; ++pass) {
+            for (const Row& row : rows) {
+                if (pass == 0 && row.sampler != std::string("bose")) continue;  // ceiling first
+                if (pass == 1 && !only.empty() && std::string(row.sampler).find(only) == std::string::npos &&
+                    oas::describe(oas::makePattern({row.sampler, row.spp, dims, row.strength, row.offset}))
+                            .find(only) == std::string::npos)
+                    continue;
+                oas::PatternRequest req;
+                req.sampler = row.sampler;
+                req.spp = row.spp;
+                req.strength = row.strength;
+                req.dims = dims;
+                req.offset = row.offset;
+                const oas::Pattern pattern = oas::makePattern(req);
+                const oas::SampleRequest r = onePass(pattern, pixels, dims);
+                const double sampleDims = double(pixels) * r.spp * dims;
+                if (pass == 0) {
+                    if (hashOnly) {
+                        hashOnly->run(pattern, r);  // warm-up: pipeline and buffer creation
+                        hashRate = sampleDims / medianSeconds(repeats, [&] { hashOnly->run(pattern, r); }) / 1e6;
+                        std::printf("%-34s %6u %14s %14s %14.1f %12s\n", "hash-only kernel (ceiling)", r.spp, "-", "-",
+                                    hashRate, "1.00");
+                    }
+                    break;
+                }
+                oas::SampleRequest cr = r;
+                cr.width = cpuPixels;
+                std::vector<float> out(std::size_t(cpuPixels) * r.spp * dims);
+                const double cpuDims = double(cpuPixels) * r.spp * dims;
+                const std::uint32_t onePixels = std::max<std::uint32_t>(1, cpuPixels / 8);
+                oas::SampleRequest one = r;
+                one.width = onePixels;
+                const double cpu1 = double(onePixels) * r.spp * dims /
+                                    medianSeconds(repeats, [&] { oas::generateCpu(pattern, one, out.data(), 1); }) / 1e6;
+                const double cpuN = cpuDims /
+                                    medianSeconds(repeats, [&] { oas::generateCpu(pattern, cr, out.data(), threads); }) /
+                                    1e6;
+                double gpuRate = 0, ratio = 0, buildSeconds = 0;
+                if (gpu) {
+                    const double builtBefore = gpu->pipelineBuildSeconds();
+                    gpu->run(pattern, r);
+                    buildSeconds = gpu->pipelineBuildSeconds() - builtBefore;
+                    if (hashOnly) hashOnly->run(pattern, r);  // warm-up: this layout's pipeline
+                    std::vector<double> seconds, ratios;
+                    for (int i = 0; i < repeats; ++i) {
+                        const double sampler = medianSeconds(1, [&] { gpu->run(pattern, r); });
+                        seconds.push_back(sampler);
+                        if (hashOnly) ratios.push_back(medianSeconds(1, [&] { hashOnly->run(pattern, r); }) / sampler);
+                    }
+                    std::sort(seconds.begin(), seconds.end());
+                    std::sort(ratios.begin(), ratios.end());
+                    gpuRate = sampleDims / seconds[seconds.size() / 2] / 1e6;
+                    if (!ratios.empty()) ratio = ratios[ratios.size() / 2];
+                }
+                const std::string label = oas::describe(pattern).substr(0, 34);
+                if (gpu)
+                    std::printf("%-34s %6u %14.1f %14.1f %14.1f %12.2f %10.2f\n", label.c_str(), r.spp, cpu1, cpuN,
+                                gpuRate, ratio, buildSeconds);
+                else
+                    std::printf("%-34s %6u %14.1f %14.1f %14s %12s\n", label.c_str(), r.spp, cpu1, cpuN, "-", "-");
+                std::fflush(stdout);
+            }
+        }
+        if (gpu && only.empty()) printSpecialisationCost(*context, pixels, dims, repeats);
+        return 0;
+    });
 }

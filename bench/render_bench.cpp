@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "apps/cli_main.hpp"
 #include "render/plan.hpp"
 #include "render/scene_data.hpp"
 #include "render/tracer.hpp"
@@ -194,65 +195,64 @@ int main(int argc, char** argv)
     app.add_flag("--profile", profileFrames,
                  "GPU only: each scene's frame time by elimination (no tracing, fetches only, first hits only, "
                  "samples per dispatch) instead of the tables");
-    CLI11_PARSE(app, argc, argv);
-    std::unique_ptr<oas::vk::Context> context;
-    if (!noGpu) {
-        oas::vk::selectLavapipeIfUnset();
-        context = std::make_unique<oas::vk::Context>();
-    }
-    std::printf("oas-render-bench on %s, scenes at %u px wide, %d alternation(s), CPU threads: %u\n",
-                context ? context->deviceName().c_str() : "no GPU", size, repeats,
-                std::max(1u, std::thread::hardware_concurrency()));
-    auto load = [&](const std::string& name) {
-        auto s = oas::scene::loadScene(scenesDir + "/" + name);
-        s.height = std::max(1u, s.height * size / s.width);
-        s.width = size;
-        return s;
-    };
-    if (profileFrames) {
-        if (!context) {
-            std::fprintf(stderr, "oas-render-bench: --profile needs the GPU (drop --no-gpu)\n");
-            return 2;
+    return oas::runCli("oas-render-bench", app, argc, argv, [&] {
+        std::unique_ptr<oas::vk::Context> context;
+        if (!noGpu) {
+            oas::vk::selectLavapipeIfUnset();
+            context = std::make_unique<oas::vk::Context>();
         }
-        for (const auto& [name, spp] : kBenchScenes)
-            if (only.empty() || std::string(name).find(only) != std::string::npos)
-                profile(*context, load(name), spp, repeats);
+        std::printf("oas-render-bench on %s, scenes at %u px wide, %d alternation(s), CPU threads: %u\n",
+                    context ? context->deviceName().c_str() : "no GPU", size, repeats,
+                    std::max(1u, std::thread::hardware_concurrency()));
+        auto load = [&](const std::string& name) {
+            auto s = oas::scene::loadScene(scenesDir + "/" + name);
+            s.height = std::max(1u, s.height * size / s.width);
+            s.width = size;
+            return s;
+        };
+        if (profileFrames) {
+            if (!context) throw std::invalid_argument("--profile needs the GPU (drop --no-gpu)");
+            for (const auto& [name, spp] : kBenchScenes)
+                if (only.empty() || std::string(name).find(only) != std::string::npos)
+                    profile(*context, load(name), spp, repeats);
+            return 0;
+        }
+        std::printf("\n%-18s %-4s %5s %6s %12s %12s %10s %10s %10s\n", "scene", "dev", "dims", "spp", "OA Mpaths/s",
+                    "rnd Mpaths/s", "OA/random", "OA build", "rnd build");
+        for (const auto& [name, spp] : kBenchScenes) {
+            if (!only.empty() && std::string(name).find(only) == std::string::npos) continue;
+            const auto scene = load(name);
+            if (context) {
+                const Pair p =
+                    alternate(repeats, [&](const char* sampler) { return measure(*context, scene, sampler, spp); });
+                std::printf("%-18s %-4s %5u %6u %12.3f %12.3f %10.3f %9.2fs %9.2fs\n", scene.name.c_str(), "gpu", p.dims,
+                            spp, p.oa, p.random, p.ratio, p.oaBuild, p.randomBuild);
+                std::fflush(stdout);
+            }
+            if (cpu) {
+                const Pair p = alternate(repeats, [&](const char* sampler) { return measureCpu(scene, sampler, spp); });
+                std::printf("%-18s %-4s %5u %6u %12.3f %12.3f %10.3f %10s %10s\n", scene.name.c_str(), "cpu", p.dims,
+                            spp, p.oa, p.random, p.ratio, "-", "-");
+                std::fflush(stdout);
+            }
+        }
+        if (noEffects || !context) return 0;
+        std::printf("\neffects of cornell7d (OA, 121 spp): speed relative to the full scene\n");
+        const auto full = load("cornell7d.json");
+        const double base = measure(*context, full, "oa", 121).mpaths;
+        auto noLens = full;
+        noLens.camera.apertureRadius = 0;
+        auto noMotion = full;
+        for (auto& s : noMotion.shapes) s.velocity = glm::vec3(0);
+        auto neither = noLens;
+        for (auto& s : neither.shapes) s.velocity = glm::vec3(0);
+        std::printf("%-28s %12.3f Mpaths/s  1.000\n", "full (lens + motion)", base);
+        for (const auto& [label, scene] :
+             {std::pair{"without depth of field", noLens}, {"without motion blur", noMotion}, {"without either", neither}}) {
+            const double m = measure(*context, scene, "oa", 121).mpaths;
+            std::printf("%-28s %12.3f Mpaths/s  %.3f\n", label, m, m / base);
+            std::fflush(stdout);
+        }
         return 0;
-    }
-    std::printf("\n%-18s %-4s %5s %6s %12s %12s %10s %10s %10s\n", "scene", "dev", "dims", "spp", "OA Mpaths/s",
-                "rnd Mpaths/s", "OA/random", "OA build", "rnd build");
-    for (const auto& [name, spp] : kBenchScenes) {
-        if (!only.empty() && std::string(name).find(only) == std::string::npos) continue;
-        const auto scene = load(name);
-        if (context) {
-            const Pair p = alternate(repeats, [&](const char* sampler) { return measure(*context, scene, sampler, spp); });
-            std::printf("%-18s %-4s %5u %6u %12.3f %12.3f %10.3f %9.2fs %9.2fs\n", scene.name.c_str(), "gpu", p.dims, spp,
-                        p.oa, p.random, p.ratio, p.oaBuild, p.randomBuild);
-            std::fflush(stdout);
-        }
-        if (cpu) {
-            const Pair p = alternate(repeats, [&](const char* sampler) { return measureCpu(scene, sampler, spp); });
-            std::printf("%-18s %-4s %5u %6u %12.3f %12.3f %10.3f %10s %10s\n", scene.name.c_str(), "cpu", p.dims, spp,
-                        p.oa, p.random, p.ratio, "-", "-");
-            std::fflush(stdout);
-        }
-    }
-    if (noEffects || !context) return 0;
-    std::printf("\neffects of cornell7d (OA, 121 spp): speed relative to the full scene\n");
-    const auto full = load("cornell7d.json");
-    const double base = measure(*context, full, "oa", 121).mpaths;
-    auto noLens = full;
-    noLens.camera.apertureRadius = 0;
-    auto noMotion = full;
-    for (auto& s : noMotion.shapes) s.velocity = glm::vec3(0);
-    auto neither = noLens;
-    for (auto& s : neither.shapes) s.velocity = glm::vec3(0);
-    std::printf("%-28s %12.3f Mpaths/s  1.000\n", "full (lens + motion)", base);
-    for (const auto& [label, scene] : {std::pair{"without depth of field", noLens}, {"without motion blur", noMotion},
-                                       {"without either", neither}}) {
-        const double m = measure(*context, scene, "oa", 121).mpaths;
-        std::printf("%-28s %12.3f Mpaths/s  %.3f\n", label, m, m / base);
-        std::fflush(stdout);
-    }
-    return 0;
+    });
 }

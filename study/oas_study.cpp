@@ -19,6 +19,7 @@
 #include <thread>
 
 #include "analytic_part.hpp"
+#include "apps/cli_main.hpp"
 #include "cost_study.hpp"
 #include "experiment.hpp"
 #include "pair_study.hpp"
@@ -268,76 +269,73 @@ int main(int argc, char** argv)
     app.add_flag("--list-scene-samplers", listSceneSamplers,
                  "print the labels of the samplers the scene part would run (after --quick and --only), one per line, and exit");
     app.add_flag("--no-plot", noPlot, "do not run study/plot.py afterwards");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::ParseError& e) {
-        return app.exit(e);
-    }
-    if (trials == 0) trials = quick ? 512 : 4096;
-    if (maxSpp == 0) maxSpp = quick ? 2048 : 4096;
-    if (dimsList.empty()) dimsList = quick ? std::vector<std::uint32_t>{4, 8} : std::vector<std::uint32_t>{4, 8, 16};
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
-    std::string command = "oas-study";
-    for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+    return oas::runCli("oas-study", app, argc, argv, [&] {
+        if (trials == 0) trials = quick ? 512 : 4096;
+        if (maxSpp == 0) maxSpp = quick ? 2048 : 4096;
+        if (dimsList.empty())
+            dimsList = quick ? std::vector<std::uint32_t>{4, 8} : std::vector<std::uint32_t>{4, 8, 16};
+        if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+        std::string command = "oas-study";
+        for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
 
-    auto wants = [&](const std::string& part) { return std::find(parts.begin(), parts.end(), part) != parts.end(); };
-    const auto t0 = std::chrono::steady_clock::now();
-    std::filesystem::create_directories(outDir);
-    if (sceneTopUp && (!wants("scenes") || parts.size() != 1)) {
-        std::fprintf(stderr, "oas-study: error: --scene-top-up adds renders to the scene part alone: use --parts scenes\n");
-        return 2;
-    }
-    auto samplers = studySamplers();
-    if (!only.empty()) {
-        for (const auto& label : only)
-            if (std::none_of(samplers.begin(), samplers.end(), [&](const SamplerSpec& s) { return s.label == label; })) {
-                std::string valid;
-                for (const auto& s : samplers) valid += (valid.empty() ? "" : ", ") + s.label;
-                std::fprintf(stderr, "oas-study: error: --only: \"%s\" is not a sampler label (valid: %s)\n", label.c_str(),
-                             valid.c_str());
-                return 2;
-            }
-        std::vector<SamplerSpec> keep;
-        for (auto& s : samplers)
-            if (std::find(only.begin(), only.end(), s.label) != only.end()) keep.push_back(s);
-        samplers = keep;
-    }
-    if (listSceneSamplers) {
-        for (const auto& s : sceneSamplersOf(samplers, quick)) std::printf("%s\n", s.label.c_str());
-        return 0;
-    }
-
-    // 2D projections for scatter plots: the same samplers and pairs as the spectra.
-    auto runProjections = [&]() {
-        CsvTable pts({"sampler", "pattern", "N", "pair", "dim_a", "dim_b", "i", "x", "y"});
-        const auto all = studySamplers();
-        for (auto& [label, N] : projectionSamplers()) {
-            auto it = std::find_if(all.begin(), all.end(), [&](auto& s) { return s.label == label; });
-            if (it == all.end()) continue;
-            try {
-                const oas::Pattern pat = oas::makePattern(patternRequest(*it, N, kProjectionDims));
-                const std::uint32_t seed = oas::pixelSeed(0, 0, kProjectionSeed);
-                for (const auto& pair : projectionPairs(*it, pat))
-                    for (std::uint32_t i = 0; i < N; ++i)
-                        pts.add({label, oas::describe(pat), std::to_string(N), pair.name, std::to_string(pair.a),
-                                 std::to_string(pair.b), std::to_string(i), fmtG(oas::sample(pat, seed, i, pair.a), 9),
-                                 fmtG(oas::sample(pat, seed, i, pair.b), 9)});
-            } catch (const std::exception& e) {
-                std::fprintf(stderr, "points: skip %s: %s\n", label.c_str(), e.what());
-            }
+        auto wants = [&](const std::string& part) {
+            return std::find(parts.begin(), parts.end(), part) != parts.end();
+        };
+        const auto t0 = std::chrono::steady_clock::now();
+        std::filesystem::create_directories(outDir);
+        if (sceneTopUp && (!wants("scenes") || parts.size() != 1))
+            throw std::invalid_argument("--scene-top-up adds renders to the scene part alone: use --parts scenes");
+        auto samplers = studySamplers();
+        if (!only.empty()) {
+            for (const auto& label : only)
+                if (std::none_of(samplers.begin(), samplers.end(),
+                                 [&](const SamplerSpec& s) { return s.label == label; })) {
+                    std::string valid;
+                    for (const auto& s : samplers) valid += (valid.empty() ? "" : ", ") + s.label;
+                    throw std::invalid_argument("--only: \"" + label + "\" is not a sampler label (valid: " + valid +
+                                                ")");
+                }
+            std::vector<SamplerSpec> keep;
+            for (auto& s : samplers)
+                if (std::find(only.begin(), only.end(), s.label) != only.end()) keep.push_back(s);
+            samplers = keep;
         }
-        pts.write(outDir + "/points.csv");
-    };
-
-    std::unique_ptr<oas::vk::Context> vulkan;  // made on first use: the analytic part needs none
-    auto device = [&]() -> oas::vk::Context& {
-        if (!vulkan) {
-            oas::vk::selectLavapipeIfUnset();
-            vulkan = std::make_unique<oas::vk::Context>();
+        if (listSceneSamplers) {
+            for (const auto& s : sceneSamplersOf(samplers, quick)) std::printf("%s\n", s.label.c_str());
+            return 0;
         }
-        return *vulkan;
-    };
-    try {
+
+        // 2D projections for scatter plots: the same samplers and pairs as the spectra.
+        auto runProjections = [&]() {
+            CsvTable pts({"sampler", "pattern", "N", "pair", "dim_a", "dim_b", "i", "x", "y"});
+            const auto all = studySamplers();
+            for (auto& [label, N] : projectionSamplers()) {
+                auto it = std::find_if(all.begin(), all.end(), [&](auto& s) { return s.label == label; });
+                if (it == all.end()) continue;
+                try {
+                    const oas::Pattern pat = oas::makePattern(patternRequest(*it, N, kProjectionDims));
+                    const std::uint32_t seed = oas::pixelSeed(0, 0, kProjectionSeed);
+                    for (const auto& pair : projectionPairs(*it, pat))
+                        for (std::uint32_t i = 0; i < N; ++i)
+                            pts.add({label, oas::describe(pat), std::to_string(N), pair.name,
+                                     std::to_string(pair.a), std::to_string(pair.b), std::to_string(i),
+                                     fmtG(oas::sample(pat, seed, i, pair.a), 9),
+                                     fmtG(oas::sample(pat, seed, i, pair.b), 9)});
+                } catch (const std::exception& e) {
+                    std::fprintf(stderr, "points: skip %s: %s\n", label.c_str(), e.what());
+                }
+            }
+            pts.write(outDir + "/points.csv");
+        };
+
+        std::unique_ptr<oas::vk::Context> vulkan;  // made on first use: the analytic part needs none
+        auto device = [&]() -> oas::vk::Context& {
+            if (!vulkan) {
+                oas::vk::selectLavapipeIfUnset();
+                vulkan = std::make_unique<oas::vk::Context>();
+            }
+            return *vulkan;
+        };
         if (wants("analytic")) {
             AnalyticOptions ao;
             ao.dims = dimsList;
@@ -477,19 +475,16 @@ int main(int argc, char** argv)
             if (!section.empty()) writeSection(outDir + "/scenes.md", section);
         }
         if (!studyMd.empty()) assembleStudy(studyMd, outDir);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "oas-study: error: %s\n", e.what());
-        return 1;
-    }
 
 #ifdef OAS_STUDY_PLOT_SCRIPT
-    if (!noPlot) {
-        // Debian's interpreter first (python3-matplotlib), whatever python3 is on PATH otherwise.
-        const std::string py = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-        const std::string cmd = py + " " + OAS_STUDY_PLOT_SCRIPT + " '" + outDir + "'";
-        if (std::system(cmd.c_str()) != 0)
-            std::fprintf(stderr, "note: plotting skipped or failed (needs python3-matplotlib): %s\n", cmd.c_str());
-    }
+        if (!noPlot) {
+            // Debian's interpreter first (python3-matplotlib), whatever python3 is on PATH otherwise.
+            const std::string py = std::filesystem::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+            const std::string cmd = py + " " + OAS_STUDY_PLOT_SCRIPT + " '" + outDir + "'";
+            if (std::system(cmd.c_str()) != 0)
+                std::fprintf(stderr, "note: plotting skipped or failed (needs python3-matplotlib): %s\n", cmd.c_str());
+        }
 #endif
-    return 0;
+        return 0;
+    });
 }

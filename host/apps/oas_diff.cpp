@@ -20,8 +20,10 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "apps/cli_main.hpp"
 #include "image/image.hpp"
 #include "image/metrics.hpp"
 
@@ -79,6 +81,86 @@ std::string exactDifference(const oas::image::Image& a, const oas::image::UintCh
     return "";
 }
 
+/// Runs `step` on the input images; whatever stops it means they cannot be compared, which is
+/// exit 2 (runCli), bad_alloc on a huge image included.
+template <class Step>
+auto unlessIncomparable(Step&& step)
+{
+    try {
+        return step();
+    } catch (const std::invalid_argument&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw UsageError(e.what());
+    }
+}
+
+/// --exact: 0 when the two files hold the same bits in every channel, 1 when they differ.
+int compareExactly(const std::string& imagePath, const std::string& referencePath)
+{
+    oas::image::UintChannels imageUints, referenceUints;
+    const auto [a, b] = unlessIncomparable([&] {
+        return std::pair{oas::image::readExr(imagePath, nullptr, &imageUints),
+                         oas::image::readExr(referencePath, nullptr, &referenceUints)};
+    });
+    const std::string difference = unlessIncomparable([&] { return exactDifference(a, imageUints, b, referenceUints); });
+    if (!difference.empty()) {
+        std::cout << "differ: " << difference << "\n";
+        return 1;
+    }
+    std::cout << "identical: " << a.width << "x" << a.height << ", RGBA and " << imageUints.size()
+              << " uint channels bit for bit\n";
+    return 0;
+}
+
+/// The metrics table on stdout, and the error PNG when asked for (exit 1 when it cannot be
+/// written: the images themselves were fine).
+int measure(const std::string& imagePath, const std::string& referencePath, const std::string& cropText,
+            const std::string& errorPng, double epsilon)
+{
+    oas::image::Image image, reference;
+    std::vector<std::pair<std::string, oas::image::ErrorMetrics>> rows;
+    unlessIncomparable([&] {
+        if (!(epsilon > 0) || !std::isfinite(epsilon))
+            throw UsageError("--epsilon must be a finite number > 0, not " + fmt::format("{}", epsilon));
+        std::optional<oas::image::Crop> crop;
+        if (!cropText.empty()) crop = parseCrop(cropText);
+        image = oas::image::readExr(imagePath);
+        reference = oas::image::readExr(referencePath);
+        for (const auto& [path, img] : {std::pair{&imagePath, &image}, std::pair{&referencePath, &reference}})
+            if (const auto bad = oas::image::findNonFinite(*img); bad.count > 0)
+                throw UsageError(*path + ": " + oas::image::describeNonFinite(*img, bad) +
+                                 ": valid finite R, G, B in every pixel (the metrics would be NaN)");
+        rows.emplace_back(fmt::format("whole {}x{}", image.width, image.height),
+                          oas::image::compare(image, reference, std::nullopt, epsilon));
+        if (crop)
+            rows.emplace_back(fmt::format("crop {},{},{},{}", crop->x, crop->y, crop->w, crop->h),
+                              oas::image::compare(image, reference, crop, epsilon));
+    });
+
+    if (!errorPng.empty()) {
+        try {
+            oas::image::FalseColourOptions options;
+            options.relEpsilon = epsilon;
+            oas::image::writePngPreview(errorPng, oas::image::falseColourError(image, reference, options));
+        } catch (const std::exception& e) {
+            throw std::runtime_error(e.what());  // exit 1, whatever the cause
+        }
+    }
+
+    std::size_t regionWidth = std::string("region").size();
+    for (const auto& row : rows) regionWidth = std::max(regionWidth, row.first.size());
+    std::string out = fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", "region", regionWidth, "pixels", "MSE",
+                                  "relMSE", "RMSE");
+    for (const auto& [label, m] : rows)
+        out += fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", label, regionWidth, m.pixels, number(m.mse),
+                           number(m.relMse), number(m.rmse));
+    out += fmt::format("(RGB, alpha ignored; relMSE eps = {})\n", epsilon);
+    std::cout << out;
+    if (!errorPng.empty()) std::cerr << "wrote " << errorPng << "\n";
+    return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -99,77 +181,8 @@ int main(int argc, char** argv)
     app.add_option("--epsilon", epsilon, "eps of relMSE (default 0.01)");
     app.add_flag("--exact", exact,
                  "only say whether the pixels are bit-identical in every channel (float and uint; headers ignored)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "oas-diff: error: " << e.what() << "\n" << "run with --help for the options\n";
-        return 2;
-    }
-
-    if (exact) {
-        try {
-            oas::image::UintChannels imageUints, referenceUints;
-            const auto a = oas::image::readExr(imagePath, nullptr, &imageUints);
-            const auto b = oas::image::readExr(referencePath, nullptr, &referenceUints);
-            const std::string difference = exactDifference(a, imageUints, b, referenceUints);
-            if (!difference.empty()) {
-                std::cout << "differ: " << difference << "\n";
-                return 1;
-            }
-            std::cout << "identical: " << a.width << "x" << a.height << ", RGBA and " << imageUints.size()
-                      << " uint channels bit for bit\n";
-            return 0;
-        } catch (const std::exception& e) {
-            std::cerr << "oas-diff: error: " << e.what() << "\n";
-            return 2;
-        }
-    }
-
-    oas::image::Image image, reference;
-    std::vector<std::pair<std::string, oas::image::ErrorMetrics>> rows;
-    try {
-        if (!(epsilon > 0) || !std::isfinite(epsilon))
-            throw UsageError("--epsilon must be a finite number > 0, not " + fmt::format("{}", epsilon));
-        std::optional<oas::image::Crop> crop;
-        if (!cropText.empty()) crop = parseCrop(cropText);
-        image = oas::image::readExr(imagePath);
-        reference = oas::image::readExr(referencePath);
-        for (const auto& [path, img] : {std::pair{&imagePath, &image}, std::pair{&referencePath, &reference}})
-            if (const auto bad = oas::image::findNonFinite(*img); bad.count > 0)
-                throw UsageError(*path + ": " + oas::image::describeNonFinite(*img, bad) +
-                                 ": valid finite R, G, B in every pixel (the metrics would be NaN)");
-        rows.emplace_back(fmt::format("whole {}x{}", image.width, image.height),
-                          oas::image::compare(image, reference, std::nullopt, epsilon));
-        if (crop)
-            rows.emplace_back(fmt::format("crop {},{},{},{}", crop->x, crop->y, crop->w, crop->h),
-                              oas::image::compare(image, reference, crop, epsilon));
-    } catch (const std::exception& e) {
-        std::cerr << "oas-diff: error: " << e.what() << "\n";
-        return 2;
-    }
-
-    if (!errorPng.empty()) {
-        try {
-            oas::image::FalseColourOptions options;
-            options.relEpsilon = epsilon;
-            oas::image::writePngPreview(errorPng, oas::image::falseColourError(image, reference, options));
-        } catch (const std::exception& e) {
-            std::cerr << "oas-diff: error: " << e.what() << "\n";
-            return 1;
-        }
-    }
-
-    std::size_t regionWidth = std::string("region").size();
-    for (const auto& row : rows) regionWidth = std::max(regionWidth, row.first.size());
-    std::string out = fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", "region", regionWidth, "pixels", "MSE",
-                                  "relMSE", "RMSE");
-    for (const auto& [label, m] : rows)
-        out += fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", label, regionWidth, m.pixels, number(m.mse),
-                           number(m.relMse), number(m.rmse));
-    out += fmt::format("(RGB, alpha ignored; relMSE eps = {})\n", epsilon);
-    std::cout << out;
-    if (!errorPng.empty()) std::cerr << "wrote " << errorPng << "\n";
-    return 0;
+    return oas::runCli("oas-diff", app, argc, argv, [&] {
+        return exact ? compareExactly(imagePath, referencePath)
+                     : measure(imagePath, referencePath, cropText, errorPng, epsilon);
+    });
 }

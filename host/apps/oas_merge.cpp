@@ -12,8 +12,8 @@
 
 #include <filesystem>
 #include <iostream>
-#include <new>
 
+#include "apps/cli_main.hpp"
 #include "image/image.hpp"
 #include "oas/pattern.hpp"
 #include "render/render_file.hpp"
@@ -27,15 +27,7 @@ int main(int argc, char** argv)
     app.add_option("-o,--output", output, "merged render file (.exr); a PNG preview is written beside it")->required();
     app.add_option("--expect", expect,
                    "A:B: the shards must hold exactly sample indices [A, B) (a gap or an extra sample is an error)");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "oas-merge: error: " << e.what() << "\nrun with --help for the options\n";
-        return 2;
-    }
-    try {
+    return oas::runCli("oas-merge", app, argc, argv, [&] {
         namespace fs = std::filesystem;
         std::vector<oas::render::RenderFile> shards;
         for (const std::string& input : inputs) {
@@ -45,7 +37,14 @@ int main(int argc, char** argv)
                                            ": write the merge to a new file");
             shards.push_back(oas::render::readRenderFile(input));
         }
-        oas::render::RenderFile merged = oas::render::mergeRenders(shards, inputs);
+        oas::render::RenderFile merged;
+        try {
+            merged = oas::render::mergeRenders(shards, inputs);
+        } catch (const std::overflow_error& e) {
+            // Shards whose sums together pass the exact integer range: a refusal, like any other
+            // pair of shards that cannot be one frame.
+            throw oas::InvalidArgument(e.what());
+        }
         if (!expect.empty()) {
             // Any range a frame can have (spp <= kMaxSamples); the comparison below does the rest.
             const oas::render::SampleRange want = oas::render::parseSampleRange(expect, oas::kMaxSamples, "--expect");
@@ -68,17 +67,5 @@ int main(int argc, char** argv)
                          "bit-identical to a one-device render\n";
         std::cout << "wrote " << output << " and " << png << "\n";
         return 0;
-    } catch (const oas::InvalidArgument& e) {
-        std::cerr << "oas-merge: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::overflow_error& e) {
-        std::cerr << "oas-merge: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::bad_alloc&) {
-        std::cerr << "oas-merge: error: out of memory\n";
-        return 1;
-    } catch (const std::exception& e) {
-        std::cerr << "oas-merge: error: " << e.what() << "\n";
-        return 1;
-    }
+    });
 }

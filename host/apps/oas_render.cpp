@@ -28,6 +28,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "apps/cli_main.hpp"
 #include "image/image.hpp"
 #include "oas/pattern.hpp"
 #include "render/plan.hpp"
@@ -134,15 +135,7 @@ int main(int argc, char** argv)
         app.add_option("--threads", threads, "CPU tracer workers (--device cpu), 0 .. 1024; 0: all cores")
             ->check(CLI::Range(0u, kMaxThreads));
     app.add_flag("--explain", explain, "print the dimension plan and the sampler choice, then exit");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "oas-render: error: " << e.what() << "\nrun with --help for the options\n";
-        return 2;
-    }
-    try {
+    return oas::runCli("oas-render", app, argc, argv, [&] {
         if (threadsOption->count() && device != "cpu")
             throw oas::InvalidArgument("--threads " + std::to_string(threads) +
                                        ": the CPU tracer's workers: valid with --device cpu only");
@@ -282,17 +275,5 @@ int main(int argc, char** argv)
                         "then oas-merge %s REST.exr -o FULL.exr\n",
                         scenePath.c_str(), finished.end, range.end, output.c_str());
         return stopSignal ? 128 + stopSignal : 0;
-    } catch (const oas::scene::SceneError& e) {
-        std::cerr << "oas-render: error: " << e.what() << "\n";
-        return 2;
-    } catch (const oas::InvalidArgument& e) {
-        std::cerr << "oas-render: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::bad_alloc&) {
-        std::cerr << "oas-render: error: out of memory (a smaller resolution or scene needs less)\n";
-        return 1;
-    } catch (const std::exception& e) {
-        std::cerr << "oas-render: error: " << e.what() << "\n";
-        return 1;
-    }
+    }, [] { return std::string("out of memory (a smaller resolution or scene needs less)"); });
 }

@@ -1,11 +1,11 @@
 // oas-samples: print one pixel's point set of any sampler, so people can look at and check a
 // pattern. Values are printed with 9 significant digits, which round-trips every float32 exactly.
 #include <CLI/CLI.hpp>
-#include <new>
 #include <cstdio>
 #include <iostream>
 #include <sstream>
 
+#include "apps/cli_main.hpp"
 #include "oas/atomic_file.hpp"
 #include "oas/generate_gpu.hpp"
 #include "oas/pattern.hpp"
@@ -119,19 +119,22 @@ int main(int argc, char** argv)
     app.add_flag("--explain", explain, "print which pattern was chosen and why, to standard error");
     app.add_flag("--print-pattern", printPattern,
                  "print the 64-byte OasPattern (16 named words, docs/PATTERN.md) as JSON instead of samples");
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "oas-samples: error: " << e.what() << "\n" << "run with --help for the options\n";
-        return 2;
-    }
-    if (list) {
-        printList(request.spp ? request.spp : 64, request.dims, request.strength);
-        return 0;
-    }
-    try {
+    // In range, but more than this machine can hold: say how much was asked for.
+    const auto outOfMemory = [&] {
+        const double values = double(request.spp) * request.dims;
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      "out of memory for --spp %u x --dims %u = %.0f values (%.1f GiB as float32, about %.0f GiB as "
+                      "%s text): valid fewer samples or dimensions per call",
+                      request.spp, request.dims, values, values * 4 / 1073741824.0,
+                      values * (format == "npy" ? 4 : 13) / 1073741824.0, format.c_str());
+        return std::string(text);
+    };
+    return oas::runCli("oas-samples", app, argc, argv, [&] {
+        if (list) {
+            printList(request.spp ? request.spp : 64, request.dims, request.strength);
+            return 0;
+        }
         if (request.spp == 0) throw oas::InvalidArgument("--spp is required (1 .. 16777216)");
         const auto [px, py] = parsePixel(pixel);
         oas::Pattern pattern;
@@ -184,20 +187,5 @@ int main(int argc, char** argv)
             if (summary || explain) std::cerr << "wrote " << output << "\n";
         }
         return 0;
-    } catch (const oas::InvalidArgument& e) {
-        std::cerr << "oas-samples: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::bad_alloc&) {
-        // In range, but more than this machine can hold: say how much was asked for.
-        const double values = double(request.spp) * request.dims;
-        std::fprintf(stderr,
-                     "oas-samples: error: out of memory for --spp %u x --dims %u = %.0f values (%.1f GiB as float32, "
-                     "about %.0f GiB as %s text): valid fewer samples or dimensions per call\n",
-                     request.spp, request.dims, values, values * 4 / 1073741824.0,
-                     values * (format == "npy" ? 4 : 13) / 1073741824.0, format.c_str());
-        return 1;
-    } catch (const std::exception& e) {
-        std::cerr << "oas-samples: error: " << e.what() << "\n";
-        return 1;
-    }
+    }, outOfMemory);
 }
