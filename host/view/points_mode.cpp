@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "oas/oas_pattern.h"
 #include "oas/periodogram.hpp"
 
 namespace oas::view {
@@ -74,9 +75,10 @@ const Frame& PointsMode::frame(Viewer& v)
     if (dirty_) {
         dirty_ = false;
         promise_ = strataPromise(pattern_, a_, b_);
-        job_ = std::async(std::launch::async, [this, &v, pattern = pattern_, a = a_, b = b_, dims = dims_] {
-            return draw(v, pattern, a, b, dims);
-        });
+        job_ = std::async(std::launch::async,
+                          [this, &v, pattern = pattern_, a = a_, b = b_, dims = dims_, labels = labels()] {
+                              return draw(v, pattern, a, b, dims, labels);
+                          });
     }
     return shown_;
 }
@@ -95,7 +97,27 @@ std::string PointsMode::title() const
            " randomizations, |k| <= " + std::to_string(kRadius);
 }
 
-Frame PointsMode::draw(Viewer& v, const Pattern& pattern, std::uint32_t a, std::uint32_t b, std::uint32_t dims)
+PointsLabels PointsMode::labels() const
+{
+    // The offset only shapes orthogonal arrays; other samplers ignore it, and the label says so.
+    const bool oa = pattern_.construction != 0 && pattern_.construction < OAS_RANDOM;
+    // Fields apart by spaces, not '|': stb_easy_font draws '|' much like 'l'.
+    PointsLabels l;
+    l.header = "sampler " + sampler_ + "     " + std::to_string(pattern_.N) + " spp     " +
+               (oa ? "offset " + offset_ : "no offset (not an OA)") + "     dimensions " + std::to_string(a_) +
+               " (x) and " + std::to_string(b_) + " (y) of " + std::to_string(dims_) + "     seed " +
+               std::to_string(o_.seed);
+    l.detail = describe(pattern_) + ";   " + strataPromise(pattern_, a_, b_).what;
+    l.xAxis = "dim " + std::to_string(a_);
+    l.yAxis = "dim " + std::to_string(b_);
+    l.spectrum = "power spectrum: mean of " + std::to_string(kSets) + " sets, k in -" + std::to_string(kRadius) +
+                 " .. " + std::to_string(kRadius);
+    l.spectrumScale = "log: black 0.01 .. white 10 (random: 1)";
+    return l;
+}
+
+Frame PointsMode::draw(Viewer& v, const Pattern& pattern, std::uint32_t a, std::uint32_t b, std::uint32_t dims,
+                       const PointsLabels& labels)
 {
     if (!generator_) generator_ = std::make_unique<GpuGenerator>(v.context());
     SampleRequest req;
@@ -117,9 +139,7 @@ Frame PointsMode::draw(Viewer& v, const Pattern& pattern, std::uint32_t a, std::
         addPeriodogram(xs.data(), ys.data(), pattern.N, kRadius, power);
     }
     for (auto& p : power) p /= kSets;
-    const std::uint32_t size = panelSize(pattern.N);
-    const Frame left = drawProjection(column(0, a), column(0, b), size, strataPromise(pattern, a, b), pattern.N);
-    return sideBySide(left, drawSpectrum(power, kRadius, size), kGap);
+    return drawPointsView(column(0, a), column(0, b), strataPromise(pattern, a, b), pattern.N, power, kRadius, labels);
 }
 
 void PointsMode::step(int dir)

@@ -1,7 +1,7 @@
 #pragma once
 // oas-view's points mode: the 2D projection of two dimensions of a sampler's points, from the GPU
 // generation kernel (oas-samples' numbers), with the strata the construction promises, the
-// projection's power spectrum (points_view.hpp draws them).
+// projection's power spectrum, and labels naming what is shown (points_view.hpp draws it).
 //
 // Keys: ] / [ next / previous pair, . the same pair in the next block (both dimensions +
 // blockDims), s / S next / previous sampler, o next offset, + / - the sampler's next valid count
@@ -24,8 +24,8 @@ public:
     /// Checks the pair and makes the pattern before any window opens: bad input throws
     /// (UsageError, InvalidArgument) even without a display.
     PointsMode(const CommonOptions& o, std::uint32_t dims, std::uint32_t a, std::uint32_t b);
-    std::uint32_t windowWidth() const { return 2 * 768 + kGap; }
-    std::uint32_t windowHeight() const { return 768; }
+    std::uint32_t windowWidth() const { return pointsLayout(1, kRadius).width; }
+    std::uint32_t windowHeight() const { return pointsLayout(1, kRadius).height; }
 
     void key(const ScriptedKey& k, Viewer& v);
     /// Points and spectrum are made on a worker thread (the generation kernel's pipeline build
@@ -41,12 +41,15 @@ public:
     std::string title() const;
 
 private:
-    static constexpr std::uint32_t kSets = 16, kGap = 8;
-    static constexpr int kRadius = 32;
+    static constexpr std::uint32_t kSets = 16;
+    static constexpr int kRadius = kSpectrumRadius;
 
     /// The projection of pixel (0, 0)'s points and the spectrum averaged over kSets pixels, from
-    /// the GPU kernel (one randomization's periodogram is mostly noise).
-    Frame draw(Viewer& v, const Pattern& pattern, std::uint32_t a, std::uint32_t b, std::uint32_t dims);
+    /// the GPU kernel (one randomization's periodogram is mostly noise), drawn with `labels`.
+    Frame draw(Viewer& v, const Pattern& pattern, std::uint32_t a, std::uint32_t b, std::uint32_t dims,
+               const PointsLabels& labels);
+    /// What the picture says about the current request.
+    PointsLabels labels() const;
     /// Next/previous pair (a, b), a < b, in the order (0,1) (0,2) ... (0,D-1) (1,2) ...
     void step(int dir);
     bool makePattern(bool first);
