@@ -7,6 +7,7 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -22,6 +23,7 @@
 #include "stb_image.h"
 
 #include "view/points_view.hpp"
+#include "view/text.hpp"
 
 namespace fs = std::filesystem;
 
@@ -125,6 +127,81 @@ std::string renderCommand(const std::string& args)
     return "'" + std::string(OAS_RENDER_EXE) + "' " + args;
 }
 
+template <class Image>
+bool is(const Image& img, int x, int y, const std::uint8_t rgb[3])
+{
+    const auto* p = img.at(x, y);
+    return p[0] == rgb[0] && p[1] == rgb[1] && p[2] == rgb[2];
+}
+
+bool inPanel(const oas::view::PointsLayout& l, int x, int y)
+{
+    return x >= int(l.panelX) && y >= int(l.panelY) && x < int(l.panelX + l.panel) && y < int(l.panelY + l.panel);
+}
+
+/// The points panel of `img` shows a disc of radius r at each centre (a picture pixel): the
+/// centre pixel and those up to r - 1 away along both axes (inside the panel) are the point
+/// colour, and no point-coloured pixel of the panel lies further than r + 1 from every centre.
+template <class Image>
+void expectDiscs(const Image& img, const std::vector<std::pair<int, int>>& centres, double r,
+                 const oas::view::PointsLayout& l)
+{
+    ASSERT_GE(r, 1.0) << "a disc, not a pixel";
+    for (const auto& [cx, cy] : centres) {
+        EXPECT_TRUE(is(img, cx, cy, oas::view::kPointRgb)) << "centre " << cx << "," << cy;
+        for (int d = 1; d <= int(r - 1); ++d)
+            for (const auto& [dx, dy] : {std::pair{d, 0}, std::pair{-d, 0}, std::pair{0, d}, std::pair{0, -d}}) {
+                if (!inPanel(l, cx + dx, cy + dy)) continue;  // the panel clips discs at its edges
+                EXPECT_TRUE(is(img, cx + dx, cy + dy, oas::view::kPointRgb))
+                    << "pixel " << dx << "," << dy << " from the centre " << cx << "," << cy << " is not lit";
+            }
+    }
+    std::size_t stray = 0, lit = 0;
+    for (int y = int(l.panelY); y < int(l.panelY + l.panel); ++y)
+        for (int x = int(l.panelX); x < int(l.panelX + l.panel); ++x) {
+            if (!is(img, x, y, oas::view::kPointRgb)) continue;
+            ++lit;
+            bool near = false;
+            for (const auto& [cx, cy] : centres) near = near || std::hypot(x - cx, y - cy) <= r + 1;
+            stray += !near;
+        }
+    EXPECT_EQ(stray, 0u) << "white pixels away from every point";
+    EXPECT_GE(lit, centres.size() * 5) << "discs cover several pixels each";
+}
+
+/// How many pixels of the rectangle [x0, x1) x [y0, y1) have the colour rgb.
+template <class Image>
+std::size_t countColour(const Image& img, int x0, int y0, int x1, int y1, const std::uint8_t rgb[3])
+{
+    std::size_t n = 0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) n += is(img, x, y, rgb);
+    return n;
+}
+
+/// The rows above the panels that only the header labels use (the y axis's "1" reaches half a
+/// line above the panel).
+int headerBottom(const oas::view::PointsLayout& l)
+{
+    return int(l.panelY) - int(oas::view::textHeight(l.textScale));
+}
+
+/// The panel's frame, its ticks at 1/2, and text above the panels (the labels), below the panel
+/// (x tick labels, axis name) and left of it (y tick labels, axis name).
+template <class Image>
+void expectLabelsAndFrame(const Image& img, const oas::view::PointsLayout& l)
+{
+    const int x0 = int(l.panelX), y0 = int(l.panelY), size = int(l.panel);
+    const int w = int(l.width), h = int(l.height);
+    EXPECT_EQ(countColour(img, x0 - 1, y0 - 1, x0 + size + 1, y0, oas::view::kFrameRgb), std::size_t(size + 2));
+    EXPECT_EQ(countColour(img, x0 - 1, y0 - 1, x0, y0 + size + 1, oas::view::kFrameRgb), std::size_t(size + 2));
+    EXPECT_TRUE(is(img, x0 + size / 2, y0 + size + 3, oas::view::kFrameRgb)) << "no tick at x = 1/2";
+    EXPECT_TRUE(is(img, x0 - 4, y0 + size / 2, oas::view::kFrameRgb)) << "no tick at y = 1/2";
+    EXPECT_GT(countColour(img, 0, 0, w, headerBottom(l), oas::view::kTextRgb), 0u) << "no labels above the panels";
+    EXPECT_GT(countColour(img, x0, y0 + size + 1, x0 + size, h, oas::view::kTextRgb), 0u) << "no x axis labels";
+    EXPECT_GT(countColour(img, 0, y0, x0 - 1, y0 + size, oas::view::kTextRgb), 0u) << "no y axis labels";
+}
+
 const std::string kScene = std::string(OAS_SOURCE_DIR) + "/scenes/cornell7d.json";
 
 }  // namespace
@@ -182,10 +259,11 @@ TEST_F(ViewGpu, SamplerKeyMovesToTheNextSamplerThatFits)
     EXPECT_TRUE(decode(dir / "shot.png").rgb == decode(dir / "ref.png").rgb) << v.output;
 }
 
-TEST_F(ViewGpu, PointsModeDrawsOasSamplesPointsInEveryStratumOnce)
+TEST_F(ViewGpu, PointsModeDrawsOasSamplesPointsAsDiscsInEveryStratumOnce)
 {
-    // Bose, 121 points, 4 dims, pair (0, 1): the white pixels of the projection panel are exactly
-    // where oas-samples puts pixel (0, 0)'s points, and each of the 11 x 11 strata holds one.
+    // Bose, 121 points, 4 dims, pair (0, 1): a disc is centred on each of the points oas-samples
+    // gives pixel (0, 0), no white pixel lies away from them, each of the 11 x 11 strata holds one,
+    // and the labels and the frame around the panel are drawn.
     const fs::path dir = workDir("points");
     const Result v =
         view("--points --sampler bose --spp 121 --dims 4 --pair 0,1 --seed 3 --screenshot shot.png", dir, 170);
@@ -195,16 +273,11 @@ TEST_F(ViewGpu, PointsModeDrawsOasSamplesPointsInEveryStratumOnce)
                          dir);
     ASSERT_EQ(s.status, 0) << s.output;
     const Picture shot = decode(dir / "shot.png");
-    const std::uint32_t size = oas::view::panelSize(121);  // 726 = 6 x 121
-    ASSERT_GE(shot.width, int(size));
-    ASSERT_GE(shot.height, int(size));
-    std::set<std::pair<std::uint32_t, std::uint32_t>> lit;
-    for (std::uint32_t y = 0; y < size; ++y)
-        for (std::uint32_t x = 0; x < size; ++x) {
-            const unsigned char* p = shot.at(int(x), int(y));
-            if (p[0] == 255 && p[1] == 255 && p[2] == 255) lit.insert({x, y});
-        }
-    std::set<std::pair<std::uint32_t, std::uint32_t>> expected;
+    const auto layout = oas::view::pointsLayout(121, oas::view::kSpectrumRadius);
+    ASSERT_EQ(shot.width, int(layout.width)) << v.output;
+    ASSERT_EQ(shot.height, int(layout.height));
+    const int size = int(layout.panel), x0 = int(layout.panelX), y0 = int(layout.panelY);
+    std::vector<std::pair<int, int>> centres;  // picture pixels holding the points
     std::ifstream csv(dir / "pts.csv");
     std::string line;
     while (std::getline(csv, line)) {
@@ -213,14 +286,15 @@ TEST_F(ViewGpu, PointsModeDrawsOasSamplesPointsInEveryStratumOnce)
         for (std::string c; std::getline(in, c, ',');) cells.push_back(c);
         if (cells.size() < 2 || cells[0].find_first_not_of("0123456789.e-+") != std::string::npos) continue;
         const float x = std::stof(cells[0]), y = std::stof(cells[1]);  // dims 0 and 1
-        expected.insert({oas::view::pixelOf(x, size), size - 1 - oas::view::pixelOf(y, size)});
+        centres.push_back({x0 + int(oas::view::pixelOf(x, size)), y0 + size - 1 - int(oas::view::pixelOf(y, size))});
     }
-    ASSERT_EQ(expected.size(), 121u) << "read " << expected.size() << " points from oas-samples";
-    EXPECT_EQ(lit, expected);
-    std::map<std::pair<std::uint32_t, std::uint32_t>, int> cells;
-    for (const auto& [x, y] : lit) ++cells[{x * 11 / size, (size - 1 - y) * 11 / size}];
-    EXPECT_EQ(cells.size(), 121u);
-    for (const auto& [cell, n] : cells) EXPECT_EQ(n, 1) << "cell " << cell.first << "," << cell.second;
+    ASSERT_EQ(centres.size(), 121u) << "read " << centres.size() << " points from oas-samples";
+    expectDiscs(shot, centres, oas::view::pointRadius(121, layout.panel), layout);
+    std::map<std::pair<int, int>, int> strata;
+    for (const auto& [x, y] : centres) ++strata[{(x - x0) * 11 / size, (y0 + size - 1 - y) * 11 / size}];
+    EXPECT_EQ(strata.size(), 121u);
+    for (const auto& [cell, n] : strata) EXPECT_EQ(n, 1) << "cell " << cell.first << "," << cell.second;
+    expectLabelsAndFrame(shot, layout);
 }
 
 TEST_F(ViewGpu, ResizingAndClosingDuringARenderAreClean)
@@ -287,4 +361,80 @@ TEST(ViewPoints, PanelAndPromiseFollowTheConstruction)
     p.construction = 16;  // Random: no promise
     EXPECT_EQ(oas::view::strataPromise(p, 0, 1).grid, 0u);
     EXPECT_FALSE(oas::view::strataPromise(p, 0, 1).latinHypercube);
+}
+
+TEST(ViewPoints, PointsViewDrawsDiscsAxesAndLabels)
+{
+    // Three points of a 16-point set (the panel is 768 pixels): each a disc of pointRadius, not a
+    // pixel; the frame and ticks around the panel; the labels where the layout leaves room.
+    const std::vector<float> xs = {0.25f, 0.75f, 0.5f}, ys = {0.25f, 0.6f, 0.95f};
+    const auto l = oas::view::pointsLayout(16, oas::view::kSpectrumRadius);
+    ASSERT_GE(l.width, l.spectrumX + l.spectrum);
+    ASSERT_GE(l.height, l.panelY + l.panel);
+    const std::vector<double> power(std::size_t(2 * oas::view::kSpectrumRadius + 1) * (2 * oas::view::kSpectrumRadius + 1), 1.0);
+    oas::view::PointsLabels labels;
+    labels.header = "sampler test";
+    labels.detail = "detail";
+    labels.xAxis = "dim 0";
+    labels.yAxis = "dim 1";
+    labels.spectrum = "spectrum";
+    labels.spectrumScale = "scale";
+    const oas::view::Frame f =
+        oas::view::drawPointsView(xs, ys, oas::view::StrataPromise{}, 16, power, oas::view::kSpectrumRadius, labels);
+    ASSERT_EQ(f.width, l.width);
+    ASSERT_EQ(f.height, l.height);
+    std::vector<std::pair<int, int>> centres;
+    for (std::size_t i = 0; i < xs.size(); ++i)
+        centres.push_back({int(l.panelX + oas::view::pixelOf(xs[i], l.panel)),
+                           int(l.panelY + l.panel - 1 - oas::view::pixelOf(ys[i], l.panel))});
+    const double r = oas::view::pointRadius(16, l.panel);
+    expectDiscs(f, centres, r, l);
+    // Outside the disc, the panel stays black.
+    for (const auto& [cx, cy] : centres) {
+        const int away = int(std::ceil(r)) + 2;
+        for (const auto& [dx, dy] : {std::pair{away, 0}, std::pair{-away, 0}, std::pair{0, away}, std::pair{0, -away}}) {
+            const std::uint8_t black[3] = {0, 0, 0};
+            EXPECT_TRUE(is(f, cx + dx, cy + dy, black)) << dx << "," << dy << " from " << cx << "," << cy;
+        }
+    }
+    expectLabelsAndFrame(f, l);
+    // The header says what it was given: another text gives other pixels, none gives none.
+    labels.header = "sampler other";
+    const auto other = oas::view::drawPointsView(xs, ys, {}, 16, power, oas::view::kSpectrumRadius, labels);
+    EXPECT_FALSE(other.rgb == f.rgb);
+    labels.header.clear();
+    labels.detail.clear();
+    const auto none = oas::view::drawPointsView(xs, ys, {}, 16, power, oas::view::kSpectrumRadius, labels);
+    EXPECT_EQ(countColour(none, 0, 0, int(none.width), headerBottom(l), oas::view::kTextRgb), 0u);
+}
+
+TEST(ViewPoints, TextStaysInItsBox)
+{
+    // drawText's pixels lie inside textWidth x textHeight at the given corner, and there are some.
+    oas::view::Frame f;
+    f.resize(200, 60);
+    const std::string text = "dim 12 (y) gp";
+    const std::uint32_t scale = 2, w = oas::view::textWidth(text, scale), h = oas::view::textHeight(scale);
+    ASSERT_GT(w, 0u);
+    oas::view::drawText(f, 10, 20, text, oas::view::kTextRgb, scale);
+    std::size_t inside = 0, outside = 0;
+    for (std::uint32_t y = 0; y < f.height; ++y)
+        for (std::uint32_t x = 0; x < f.width; ++x) {
+            if (!is(f, int(x), int(y), oas::view::kTextRgb)) continue;
+            (x >= 10 && x < 10 + w && y >= 20 && y < 20 + h ? inside : outside) += 1;
+        }
+    EXPECT_GT(inside, 20u);
+    EXPECT_EQ(outside, 0u);
+    // Turned upward, the same pixels fit the turned box: h wide, w tall, above (10, 20 + w).
+    oas::view::Frame up;
+    up.resize(60, 200);
+    oas::view::drawText(up, 10, int(20 + w), text, oas::view::kTextRgb, scale, /*upward=*/true);
+    std::size_t upInside = 0, upOutside = 0;
+    for (std::uint32_t y = 0; y < up.height; ++y)
+        for (std::uint32_t x = 0; x < up.width; ++x) {
+            if (!is(up, int(x), int(y), oas::view::kTextRgb)) continue;
+            (x >= 10 && x < 10 + h && y >= 20 && y < 20 + w ? upInside : upOutside) += 1;
+        }
+    EXPECT_EQ(upInside, inside);
+    EXPECT_EQ(upOutside, 0u);
 }

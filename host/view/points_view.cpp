@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "view/text.hpp"
+
 namespace oas::view {
 namespace {
 
@@ -15,6 +17,47 @@ void put(Frame& f, std::uint32_t x, std::uint32_t y, const std::uint8_t* rgb)
     if (x >= f.width || y >= f.height) return;
     std::uint8_t* p = f.at(x, y);
     p[0] = rgb[0], p[1] = rgb[1], p[2] = rgb[2];
+}
+
+void fill(Frame& f, std::uint32_t x0, std::uint32_t y0, std::uint32_t w, std::uint32_t h, const std::uint8_t* rgb)
+{
+    for (std::uint32_t y = y0; y < y0 + h; ++y)
+        for (std::uint32_t x = x0; x < x0 + w; ++x) put(f, x, y, rgb);
+}
+
+/// A one-pixel rectangle just outside the w x h area at (x, y).
+void frameAround(Frame& f, std::uint32_t x, std::uint32_t y, std::uint32_t w, std::uint32_t h)
+{
+    fill(f, x - 1, y - 1, w + 2, 1, kFrameRgb);
+    fill(f, x - 1, y + h, w + 2, 1, kFrameRgb);
+    fill(f, x - 1, y - 1, 1, h + 2, kFrameRgb);
+    fill(f, x + w, y - 1, 1, h + 2, kFrameRgb);
+}
+
+/// Blends `rgb` over the pixel with weight `coverage` in [0, 1].
+void blend(Frame& f, int x, int y, const std::uint8_t* rgb, double coverage)
+{
+    if (x < 0 || y < 0 || x >= int(f.width) || y >= int(f.height) || coverage <= 0) return;
+    std::uint8_t* p = f.at(std::uint32_t(x), std::uint32_t(y));
+    const double c = std::min(coverage, 1.0);
+    for (int i = 0; i < 3; ++i) p[i] = std::uint8_t(std::lround(p[i] + (rgb[i] - p[i]) * c));
+}
+
+/// A disc of radius r centred at (cx, cy) in pixel units (pixel (x, y) spans [x, x + 1)): each
+/// pixel's coverage is approximated by how far its centre lies inside the circle, over one pixel.
+void disc(Frame& f, double cx, double cy, double r, const std::uint8_t* rgb)
+{
+    for (int y = int(std::floor(cy - r - 1)); y <= int(std::ceil(cy + r + 1)); ++y)
+        for (int x = int(std::floor(cx - r - 1)); x <= int(std::ceil(cx + r + 1)); ++x) {
+            const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy);
+            blend(f, x, y, rgb, r + 0.5 - d);
+        }
+}
+
+/// The text scale that fits `text` in `room` pixels: `scale`, or 1 when that is too wide.
+std::uint32_t fitting(const std::string& text, std::uint32_t scale, std::uint32_t room)
+{
+    return textWidth(text, scale) <= room ? scale : 1;
 }
 
 }  // namespace
@@ -77,10 +120,18 @@ Frame drawProjection(const std::vector<float>& xs, const std::vector<float>& ys,
                 put(f, t, size - 1 - at, kTickRgb);  // left edge: y strata
             }
         }
+    // Centred on the exact position (pixelOf's pixel holds it: floor(v * size)); y up.
+    const double r = pointRadius(n, size);
     const std::size_t count = std::min(xs.size(), ys.size());
     for (std::size_t i = 0; i < count; ++i)
-        put(f, pixelOf(xs[i], size), size - 1 - pixelOf(ys[i], size), kPointRgb);
+        disc(f, double(xs[i]) * size, size - double(ys[i]) * size, r, kPointRgb);
     return f;
+}
+
+double pointRadius(std::uint32_t n, std::uint32_t size)
+{
+    const double spacing = size / std::sqrt(double(std::max(n, 1u)));
+    return std::clamp(spacing / 5, 1.25, 3.5);
 }
 
 Frame drawSpectrum(const std::vector<double>& power, int radius, std::uint32_t size)
@@ -102,13 +153,71 @@ Frame drawSpectrum(const std::vector<double>& power, int radius, std::uint32_t s
     return f;
 }
 
-Frame sideBySide(const Frame& a, const Frame& b, std::uint32_t gap)
+PointsLayout pointsLayout(std::uint32_t n, int radius)
 {
+    // Margins: two label lines above; tick labels and the rotated y-axis name on the left; tick
+    // labels, the x-axis name and the spectrum's two lines below.
+    constexpr std::uint32_t kLeft = 84, kTop = 72, kGap = 56, kRight = 16, kBottom = 64;
+    const std::uint32_t cells = std::uint32_t(2 * radius + 1);
+    PointsLayout l;
+    l.panel = panelSize(n);
+    l.panelX = kLeft;
+    l.panelY = kTop;
+    l.spectrum = cells * std::max(1u, 600 / cells);
+    l.spectrumX = kLeft + l.panel + kGap;
+    l.spectrumY = kTop;
+    l.width = kLeft + kMaxPanel + kGap + l.spectrum + kRight;
+    l.height = kTop + kMaxPanel + kBottom;
+    return l;
+}
+
+Frame drawPointsView(const std::vector<float>& xs, const std::vector<float>& ys, const StrataPromise& promise,
+                     std::uint32_t n, const std::vector<double>& power, int radius, const PointsLabels& labels)
+{
+    const PointsLayout l = pointsLayout(n, radius);
+    const std::uint32_t s = l.textScale, line = textHeight(s);
     Frame f;
-    f.resize(a.width + gap + b.width, std::max(a.height, b.height), 24);
-    for (std::uint32_t y = 0; y < a.height; ++y) std::copy_n(a.at(0, y), std::size_t(a.width) * 3, f.at(0, y));
-    for (std::uint32_t y = 0; y < b.height; ++y)
-        std::copy_n(b.at(0, y), std::size_t(b.width) * 3, f.at(a.width + gap, y));
+    f.resize(l.width, l.height);
+    fill(f, 0, 0, l.width, l.height, kBackgroundRgb);
+
+    const Frame panel = drawProjection(xs, ys, l.panel, promise, n);
+    for (std::uint32_t y = 0; y < panel.height; ++y)
+        std::copy_n(panel.at(0, y), std::size_t(panel.width) * 3, f.at(l.panelX, l.panelY + y));
+    frameAround(f, l.panelX, l.panelY, l.panel, l.panel);
+    const Frame spectrum = drawSpectrum(power, radius, l.spectrum);
+    for (std::uint32_t y = 0; y < spectrum.height; ++y)
+        std::copy_n(spectrum.at(0, y), std::size_t(spectrum.width) * 3, f.at(l.spectrumX, l.spectrumY + y));
+    frameAround(f, l.spectrumX, l.spectrumY, l.spectrum, l.spectrum);
+
+    // Ticks at 0, 1/2 and 1 outside the frame (0 and 1 on the frame's lines), labelled.
+    constexpr std::uint32_t kTick = 6, kPad = 4;
+    const char* names[3] = {"0", "1/2", "1"};
+    const std::uint32_t bottom = l.panelY + l.panel, left = l.panelX - 1;
+    for (std::uint32_t i = 0; i < 3; ++i) {
+        // The frame's lines stand for 0 and 1; 1/2 is the line between the two middle halves.
+        const std::uint32_t x = i == 0 ? left : i == 1 ? l.panelX + l.panel / 2 : l.panelX + l.panel;
+        const std::uint32_t y = i == 0 ? bottom : i == 1 ? l.panelY + l.panel / 2 : l.panelY - 1;
+        fill(f, x, bottom, 1, kTick + 1, kFrameRgb);        // x axis, downwards
+        fill(f, left - kTick, y, kTick + 1, 1, kFrameRgb);  // y axis, leftwards
+        const std::uint32_t w = textWidth(names[i], s);
+        drawText(f, int(x) - int(w / 2), int(bottom + kTick + kPad), names[i], kTextRgb, s);
+        drawText(f, int(left - kTick - kPad - w), int(y) - int(line / 2), names[i], kTextRgb, s);
+    }
+    const std::uint32_t xName = textWidth(labels.xAxis, s), yName = textWidth(labels.yAxis, s);
+    drawText(f, int(l.panelX + l.panel / 2 - xName / 2), int(bottom + kTick + kPad + line + kPad + 2), labels.xAxis,
+             kTextRgb, s);
+    drawText(f, int(left - kTick - kPad - textWidth("1/2", s) - 3 * kPad - line),
+             int(l.panelY + l.panel / 2 + yName / 2), labels.yAxis, kTextRgb, s, /*upward=*/true);
+
+    // The two header lines span the window; the spectrum's lines go under it.
+    const std::uint32_t room = l.width - 2 * kPad;
+    drawText(f, int(kPad + 8), 10, labels.header, kTextRgb, fitting(labels.header, s, room - 8));
+    drawText(f, int(kPad + 8), int(10 + line + 8), labels.detail, kTextRgb, fitting(labels.detail, s, room - 8));
+    const std::uint32_t spectrumRoom = l.width - l.spectrumX - kPad;
+    const std::uint32_t below = l.spectrumY + l.spectrum + kTick + kPad;
+    drawText(f, int(l.spectrumX), int(below), labels.spectrum, kTextRgb, fitting(labels.spectrum, s, spectrumRoom));
+    drawText(f, int(l.spectrumX), int(below + line + 8), labels.spectrumScale, kTextRgb,
+             fitting(labels.spectrumScale, s, spectrumRoom));
     return f;
 }
 
