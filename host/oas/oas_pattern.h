@@ -116,7 +116,7 @@ int oas_prime_power(uint32_t q, uint32_t* p, uint32_t* k);
 uint32_t oas_primitive_polynomial(uint32_t p, uint32_t k);
 
 /** Granlund-Montgomery constants: floor(x / d) == (mulhi(x, recip) + ((x - mulhi) >> 1)) >> (shift - 1)
- *  for every 32-bit x, as oas_fastdiv computes it (shaders/oas/oas_hash.glsl); d >= 1. */
+ *  for every 32-bit x, as oas_fastdiv computes it (shaders/oas/oas_intdiv.glsl); d >= 1. */
 void oas_divisor(uint32_t d, uint32_t* recip, uint32_t* shift);
 
 /** The Sobol baseline's direction numbers: OAS_SOBOL_BLOCK_DIMS (1024) x 32 words, [dim * 32 + bit],

@@ -17,6 +17,7 @@
 #include <memory>
 #include <sstream>
 
+#include "apps/cli_main.hpp"
 #include "oas/pattern.hpp"
 #include "scene/scene.hpp"
 #include "view/points_mode.hpp"
@@ -49,15 +50,7 @@ int main(int argc, char** argv)
     app.add_option("--script", o.script, "keys to press, e.g. \"s@3 r@5\" (key@frame; see the source's header)");
     app.add_option("--save", o.save, "file stem for the p key (default out/view_<scene>)");
     app.add_option("--zoom", o.zoom, "integer zoom of the render (0: fit about 768 px)")->check(CLI::Range(0u, 64u));
-    try {
-        app.parse(argc, argv);
-    } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
-    } catch (const CLI::ParseError& e) {
-        std::cerr << "oas-view: error: " << e.what() << "\nrun with --help for the options\n";
-        return 2;
-    }
-    try {
+    return oas::runCli("oas-view", app, argc, argv, [&] {
         oas::view::parseScript(o.script);  // bad scripts fail before any window opens
         if (points == !scenePath.empty())
             throw UsageError(points ? "--points takes no scene file" : "give a scene file, or --points");
@@ -88,17 +81,5 @@ int main(int argc, char** argv)
         const std::uint32_t h = points ? pointsMode->windowHeight() : render->windowHeight();
         oas::view::Viewer viewer(w, h, points ? "oas-view points" : "oas-view: " + render->name());
         return points ? oas::view::runFrames(*pointsMode, viewer, o) : oas::view::runFrames(*render, viewer, o);
-    } catch (const UsageError& e) {
-        std::cerr << "oas-view: error: " << e.what() << "\n";
-        return 2;
-    } catch (const oas::scene::SceneError& e) {
-        std::cerr << "oas-view: error: " << e.what() << "\n";
-        return 2;
-    } catch (const oas::InvalidArgument& e) {
-        std::cerr << "oas-view: error: " << e.what() << "\n";
-        return 2;
-    } catch (const std::exception& e) {
-        std::cerr << "oas-view: error: " << e.what() << "\n";
-        return 1;
-    }
+    });
 }

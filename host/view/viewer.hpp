@@ -25,9 +25,9 @@ inline double secondsSince(Clock::time_point t)
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-/// Exit status 2 with a message: bad input or no display.
-struct UsageError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+/// Exit status 2 with a message: bad input or no display (oas::runCli maps std::invalid_argument to 2).
+struct UsageError : std::invalid_argument {
+    using std::invalid_argument::invalid_argument;
 };
 
 /// GLFW's last error as text (its error callback is silenced; errors are read where they matter).
