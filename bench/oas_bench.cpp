@@ -57,8 +57,8 @@ void printSpecialisationCost(oas::vk::Context& context, std::uint32_t pixels, st
     // Both generators start empty, so each row's first run builds its specialised pipeline; the
     // unspecialised one is built by the first row only and serves every pattern.
     oas::GpuGenerator specialised(context), unspecialised(context, oas::GpuGenerator::Kernel::Unspecialised);
-    const std::vector<Row> rows = {{"bose", 121, 0, "cmj"}, {"bose", 64, 0, "cmj"}, {"addelman-kempthorne", 162, 0, "cmj"},
-                                   {"halton", 121, 0, "cmj"}};
+    const std::vector<Row> rows = {
+        {"bose", 121, 0, "cmj"}, {"bose", 64, 0, "cmj"}, {"addelman-kempthorne", 162, 0, "cmj"}, {"halton", 121, 0, "cmj"}};
     std::printf("\nspecialisation (GPU M/s; the unspecialised kernel builds once for every pattern)\n");
     std::printf("%-34s %14s %14s %8s %12s %12s\n", "sampler", "specialised", "unspecialised", "ratio", "build spec s",
                 "build unsp s");
@@ -109,11 +109,19 @@ int main(int argc, char** argv)
             repeats = 1;
         }
         const std::vector<Row> rows = {
-            {"bose", 121, 0, "cmj"},        {"bose", 121, 0, "mj"},        {"bose", 121, 0, "j"},
-            {"bose", 64, 0, "cmj"}, {"bush", 125, 3, "mj"},      {"bose-bush", 128, 0, "cmj"},
-            {"addelman-kempthorne", 98, 0, "cmj"}, {"addelman-kempthorne", 162, 0, "cmj"}, {"cmjnd", 256, 8, "cmj"},
+            {"bose", 121, 0, "cmj"},
+            {"bose", 121, 0, "mj"},
+            {"bose", 121, 0, "j"},
+            {"bose", 64, 0, "cmj"},
+            {"bush", 125, 3, "mj"},
+            {"bose-bush", 128, 0, "cmj"},
+            {"addelman-kempthorne", 98, 0, "cmj"},
+            {"addelman-kempthorne", 162, 0, "cmj"},
+            {"cmjnd", 256, 8, "cmj"},
             {"random", 121, 0, "cmj"},
-            {"jittered2d", 121, 0, "cmj"}, {"cmj2d", 121, 0, "cmj"},       {"zerotwo", 128, 0, "cmj"},
+            {"jittered2d", 121, 0, "cmj"},
+            {"cmj2d", 121, 0, "cmj"},
+            {"zerotwo", 128, 0, "cmj"},
             {"halton", 121, 0, "cmj"},
         };
         std::unique_ptr<oas::vk::Context> context;
@@ -129,8 +137,8 @@ int main(int argc, char** argv)
             }
         }
         const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-        std::printf("oas-bench: %u pixels x spp x %u dims, median of %d; CPU threads: %u; GPU: %s\n", pixels, dims,
-                    repeats, threads, context ? context->deviceName().c_str() : "none");
+        std::printf("oas-bench: %u pixels x spp x %u dims, median of %d; CPU threads: %u; GPU: %s\n", pixels, dims, repeats,
+                    threads, context ? context->deviceName().c_str() : "none");
         std::printf("%-34s %6s %14s %14s %14s %12s %10s\n", "sampler", "spp", "CPU 1 thr M/s", "CPU all M/s", "GPU M/s",
                     "GPU/hash", "build s");
         // Whole-image CPU buffers get large; the CPU runs cover a slice of the pixels and scale.
@@ -140,8 +148,8 @@ int main(int argc, char** argv)
             for (const Row& row : rows) {
                 if (pass == 0 && row.sampler != std::string("bose")) continue;  // ceiling first
                 if (pass == 1 && !only.empty() && std::string(row.sampler).find(only) == std::string::npos &&
-                    oas::describe(oas::makePattern({row.sampler, row.spp, dims, row.strength, row.offset}))
-                            .find(only) == std::string::npos)
+                    oas::describe(oas::makePattern({row.sampler, row.spp, dims, row.strength, row.offset})).find(only) ==
+                        std::string::npos)
                     continue;
                 oas::PatternRequest req;
                 req.sampler = row.sampler;
@@ -156,8 +164,8 @@ int main(int argc, char** argv)
                     if (hashOnly) {
                         hashOnly->run(pattern, r);  // warm-up: pipeline and buffer creation
                         hashRate = sampleDims / medianSeconds(repeats, [&] { hashOnly->run(pattern, r); }) / 1e6;
-                        std::printf("%-34s %6u %14s %14s %14.1f %12s\n", "hash-only kernel (ceiling)", r.spp, "-", "-",
-                                    hashRate, "1.00");
+                        std::printf("%-34s %6u %14s %14s %14.1f %12s\n", "hash-only kernel (ceiling)", r.spp, "-", "-", hashRate,
+                                    "1.00");
                     }
                     break;
                 }
@@ -170,9 +178,8 @@ int main(int argc, char** argv)
                 one.width = onePixels;
                 const double cpu1 = double(onePixels) * r.spp * dims /
                                     medianSeconds(repeats, [&] { oas::generateCpu(pattern, one, out.data(), 1); }) / 1e6;
-                const double cpuN = cpuDims /
-                                    medianSeconds(repeats, [&] { oas::generateCpu(pattern, cr, out.data(), threads); }) /
-                                    1e6;
+                const double cpuN =
+                    cpuDims / medianSeconds(repeats, [&] { oas::generateCpu(pattern, cr, out.data(), threads); }) / 1e6;
                 double gpuRate = 0, ratio = 0, buildSeconds = 0;
                 if (gpu) {
                     const double builtBefore = gpu->pipelineBuildSeconds();
@@ -192,8 +199,8 @@ int main(int argc, char** argv)
                 }
                 const std::string label = oas::describe(pattern).substr(0, 34);
                 if (gpu)
-                    std::printf("%-34s %6u %14.1f %14.1f %14.1f %12.2f %10.2f\n", label.c_str(), r.spp, cpu1, cpuN,
-                                gpuRate, ratio, buildSeconds);
+                    std::printf("%-34s %6u %14.1f %14.1f %14.1f %12.2f %10.2f\n", label.c_str(), r.spp, cpu1, cpuN, gpuRate,
+                                ratio, buildSeconds);
                 else
                     std::printf("%-34s %6u %14.1f %14.1f %14s %12s\n", label.c_str(), r.spp, cpu1, cpuN, "-", "-");
                 std::fflush(stdout);

@@ -58,7 +58,7 @@ struct Variant {
     oas::render::KernelStage stage = oas::render::KernelStage::PathTrace;
     bool specialiseSceneFeatures = true;
     std::uint32_t perDispatch = 0;  ///< samples per pixel per dispatch; 0: as oas-render (samplesPerBatch)
-    bool primaryHitOnly = false;  ///< maxDepth 1, no light sampling: camera rays to their first hit
+    bool primaryHitOnly = false;    ///< maxDepth 1, no light sampling: camera rays to their first hit
 };
 
 Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const std::string& sampler, std::uint32_t spp,
@@ -148,8 +148,9 @@ void profile(oas::vk::Context& context, const oas::scene::Scene& scene, std::uin
         std::vector<double> ms;
     };
     const std::uint32_t batched = 8;
-    auto variant = [](KernelStage stage, std::uint32_t perDispatch = 1, bool primaryHitOnly = false,
-                      bool specialise = true) { return Variant{stage, specialise, perDispatch, primaryHitOnly}; };
+    auto variant = [](KernelStage stage, std::uint32_t perDispatch = 1, bool primaryHitOnly = false, bool specialise = true) {
+        return Variant{stage, specialise, perDispatch, primaryHitOnly};
+    };
     std::vector<Row> rows = {
         {"path tracer, OA (1 spp per dispatch)", "oa", variant(KernelStage::PathTrace), {}},
         {"  with every shape/material/light type", "oa", variant(KernelStage::PathTrace, 1, false, false), {}},
@@ -223,16 +224,15 @@ int main(int argc, char** argv)
             if (!only.empty() && std::string(name).find(only) == std::string::npos) continue;
             const auto scene = load(name);
             if (context) {
-                const Pair p =
-                    alternate(repeats, [&](const char* sampler) { return measure(*context, scene, sampler, spp); });
-                std::printf("%-18s %-4s %5u %6u %12.3f %12.3f %10.3f %9.2fs %9.2fs\n", scene.name.c_str(), "gpu", p.dims,
-                            spp, p.oa, p.random, p.ratio, p.oaBuild, p.randomBuild);
+                const Pair p = alternate(repeats, [&](const char* sampler) { return measure(*context, scene, sampler, spp); });
+                std::printf("%-18s %-4s %5u %6u %12.3f %12.3f %10.3f %9.2fs %9.2fs\n", scene.name.c_str(), "gpu", p.dims, spp,
+                            p.oa, p.random, p.ratio, p.oaBuild, p.randomBuild);
                 std::fflush(stdout);
             }
             if (cpu) {
                 const Pair p = alternate(repeats, [&](const char* sampler) { return measureCpu(scene, sampler, spp); });
-                std::printf("%-18s %-4s %5u %6u %12.3f %12.3f %10.3f %10s %10s\n", scene.name.c_str(), "cpu", p.dims,
-                            spp, p.oa, p.random, p.ratio, "-", "-");
+                std::printf("%-18s %-4s %5u %6u %12.3f %12.3f %10.3f %10s %10s\n", scene.name.c_str(), "cpu", p.dims, spp, p.oa,
+                            p.random, p.ratio, "-", "-");
                 std::fflush(stdout);
             }
         }

@@ -51,10 +51,9 @@ inline bool verbose()
     std::abort();
 }
 
-#define OAS_FUZZ_CHECK(category, cond, detail)                                     \
-    do {                                                                           \
-        if (!(cond) && !::oas::fuzz::ignored(category))                            \
-            ::oas::fuzz::violated(category, std::string(#cond) + ": " + (detail)); \
+#define OAS_FUZZ_CHECK(category, cond, detail)                                                                                   \
+    do {                                                                                                                         \
+        if (!(cond) && !::oas::fuzz::ignored(category)) ::oas::fuzz::violated(category, std::string(#cond) + ": " + (detail));   \
     } while (0)
 
 /// Inside a catch (...): report the exception that escaped (type and what()) and abort.
@@ -84,7 +83,10 @@ inline std::string str(const glm::vec3& v)
     return buf;
 }
 
-inline bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+inline bool finite(const glm::vec3& v)
+{
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 /// The structural guarantees of host/scene/bvh.hpp for a tree built from `boxes` with
 /// `maxLeafSize`, then traversals of `rays` (origin, direction) compared with brute force:
@@ -105,8 +107,7 @@ inline void checkBvh(const scene::Bvh& bvh, const std::vector<scene::Aabb>& boxe
         seen[p] = 1;
     }
     if (n == 0) {
-        OAS_FUZZ_CHECK("bvh-structure", bvh.nodes.size() == 1 && bvh.nodes[0].count == 0 &&
-                                            bvh.nodes[0].bounds().empty(),
+        OAS_FUZZ_CHECK("bvh-structure", bvh.nodes.size() == 1 && bvh.nodes[0].count == 0 && bvh.nodes[0].bounds().empty(),
                        "the empty tree is not one empty leaf");
         return;
     }
@@ -138,8 +139,8 @@ inline void checkBvh(const scene::Bvh& bvh, const std::vector<scene::Aabb>& boxe
                 const Aabb& pb = boxes[bvh.order[i]];
                 if (pb.valid())
                     OAS_FUZZ_CHECK("bvh-bounds", box.contains(pb),
-                                   "leaf box " + str(box.lo) + ".." + str(box.hi) + " misses primitive box " +
-                                       str(pb.lo) + ".." + str(pb.hi));
+                                   "leaf box " + str(box.lo) + ".." + str(box.hi) + " misses primitive box " + str(pb.lo) + ".." +
+                                       str(pb.hi));
             }
         } else {
             OAS_FUZZ_CHECK("bvh-structure", std::uint64_t(nd.leftOrFirst) + 1 < bvh.nodes.size(),
@@ -147,8 +148,7 @@ inline void checkBvh(const scene::Bvh& bvh, const std::vector<scene::Aabb>& boxe
             OAS_FUZZ_CHECK("bvh-structure", nd.leftOrFirst > it.node, "child index not after its parent");
             for (std::uint32_t c : {nd.leftOrFirst, nd.leftOrFirst + 1}) {
                 const Aabb cb = bvh.nodes[c].bounds();
-                if (cb.valid())
-                    OAS_FUZZ_CHECK("bvh-bounds", box.contains(cb), "interior box does not contain its child's box");
+                if (cb.valid()) OAS_FUZZ_CHECK("bvh-bounds", box.contains(cb), "interior box does not contain its child's box");
                 stack.push_back({c, it.depth + 1});
             }
         }
@@ -183,9 +183,8 @@ inline void checkBvh(const scene::Bvh& bvh, const std::vector<scene::Aabb>& boxe
             float tEntry;
             if (scene::intersectNode(leaf, origin, inv, 0.f, tMax, tEntry))
                 OAS_FUZZ_CHECK("bvh-traversal", hit[p],
-                               "ray " + str(origin) + " dir " + str(dir) + " enters the box of primitive " +
-                                   std::to_string(p) + " " + str(b.lo) + ".." + str(b.hi) +
-                                   " but traverse() never visits it");
+                               "ray " + str(origin) + " dir " + str(dir) + " enters the box of primitive " + std::to_string(p) +
+                                   " " + str(b.lo) + ".." + str(b.hi) + " but traverse() never visits it");
         }
     }
 }

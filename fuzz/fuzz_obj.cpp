@@ -32,8 +32,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         oas::fuzz::unexpectedException("parseObj");
     }
     try {
-        OAS_FUZZ_CHECK("obj-range", mesh.triangles.size() + mesh.degenerateDropped >= mesh.faces,
-                       "fewer triangles than faces");
+        OAS_FUZZ_CHECK("obj-range", mesh.triangles.size() + mesh.degenerateDropped >= mesh.faces, "fewer triangles than faces");
         for (const auto& p : mesh.positions) OAS_FUZZ_CHECK("obj-range", finite(p), oas::fuzz::str(p));
         std::vector<Aabb> boxes;
         boxes.reserve(mesh.triangles.size());
@@ -50,8 +49,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             boxes.push_back(box);
         }
         const Bvh bvh = buildBvh(boxes, 4);
-        std::vector<std::pair<glm::vec3, glm::vec3>> rays = {{{0, 0, 5}, {0, 0, -1}}, {{0, 0, 0}, {1, 0, 0}},
-                                                             {{-3, 2, 1}, {1, -0.5f, -0.2f}}};
+        std::vector<std::pair<glm::vec3, glm::vec3>> rays = {
+            {{0, 0, 5}, {0, 0, -1}}, {{0, 0, 0}, {1, 0, 0}}, {{-3, 2, 1}, {1, -0.5f, -0.2f}}};
         if (!mesh.positions.empty()) rays.push_back({mesh.positions.front(), {0, 1, 0}});
         oas::fuzz::checkBvh(bvh, boxes, 4, rays);
         if (oas::fuzz::verbose())

@@ -56,8 +56,8 @@ void checkScene(const Scene& sc)
     OAS_FUZZ_CHECK("scene-range", sc.width >= 1 && sc.width <= 16384 && sc.height >= 1 && sc.height <= 16384,
                    std::to_string(sc.width) + "x" + std::to_string(sc.height));
     OAS_FUZZ_CHECK("scene-range", !sc.shapes.empty(), "no shapes");
-    OAS_FUZZ_CHECK("scene-range", std::isfinite(sc.shutterOpen) && std::isfinite(sc.shutterClose) &&
-                                      sc.shutterOpen <= sc.shutterClose,
+    OAS_FUZZ_CHECK("scene-range",
+                   std::isfinite(sc.shutterOpen) && std::isfinite(sc.shutterClose) && sc.shutterOpen <= sc.shutterClose,
                    "shutter");
     OAS_FUZZ_CHECK("scene-range", finite(sc.environment), str(sc.environment));
 
@@ -67,28 +67,27 @@ void checkScene(const Scene& sc)
     OAS_FUZZ_CHECK("scene-range", cam.fovYDegrees > 0 && cam.fovYDegrees < 180, std::to_string(cam.fovYDegrees));
     OAS_FUZZ_CHECK("scene-range", cam.apertureRadius >= 0 && std::isfinite(cam.apertureRadius), "aperture");
     OAS_FUZZ_CHECK("camera-nonfinite", std::isfinite(cam.focusDistance) && cam.focusDistance > 0,
-                   "focusDistance " + std::to_string(cam.focusDistance) + " for position " + str(cam.position) +
-                       " lookAt " + str(cam.lookAt));
+                   "focusDistance " + std::to_string(cam.focusDistance) + " for position " + str(cam.position) + " lookAt " +
+                       str(cam.lookAt));
     const vec3 forward = glm::normalize(cam.lookAt - cam.position);
     const vec3 right = glm::normalize(glm::cross(forward, cam.up));
     const vec3 up = glm::cross(right, forward);
     OAS_FUZZ_CHECK("camera-nonfinite", finite(forward) && finite(right) && finite(up),
-                   "camera basis forward " + str(forward) + " right " + str(right) + " from position " +
-                       str(cam.position) + " lookAt " + str(cam.lookAt) + " up " + str(cam.up));
+                   "camera basis forward " + str(forward) + " right " + str(right) + " from position " + str(cam.position) +
+                       " lookAt " + str(cam.lookAt) + " up " + str(cam.up));
 
     OAS_FUZZ_CHECK("scene-range", !sc.materials.empty(), "shapes without materials");
     for (const Material& m : sc.materials) {
         OAS_FUZZ_CHECK("scene-range", !m.name.empty(), "unnamed material");
-        OAS_FUZZ_CHECK("scene-range", finite(m.albedo) && finite(m.emission) && std::isfinite(m.roughness) &&
-                                          std::isfinite(m.ior),
-                       m.name);
+        OAS_FUZZ_CHECK("scene-range",
+                       finite(m.albedo) && finite(m.emission) && std::isfinite(m.roughness) && std::isfinite(m.ior), m.name);
     }
     for (std::size_t i = 0; i < sc.shapes.size(); ++i) {
         const Shape& s = sc.shapes[i];
         OAS_FUZZ_CHECK("scene-range", s.material < sc.materials.size(), "shape material index");
         OAS_FUZZ_CHECK("scene-range",
-                       finite(s.center) && std::isfinite(s.radius) && finite(s.corner) && finite(s.edgeU) &&
-                           finite(s.edgeV) && finite(s.p0) && finite(s.p1) && finite(s.p2) && finite(s.velocity),
+                       finite(s.center) && std::isfinite(s.radius) && finite(s.corner) && finite(s.edgeU) && finite(s.edgeV) &&
+                           finite(s.p0) && finite(s.p1) && finite(s.p2) && finite(s.velocity),
                        "shape " + std::to_string(i));
         const float area = s.area();
         OAS_FUZZ_CHECK("shape-area", std::isfinite(area) && area > 0,
@@ -100,14 +99,12 @@ void checkScene(const Scene& sc)
         if (l.type == Light::Type::Spot) {
             OAS_FUZZ_CHECK("light-nonfinite", finite(l.direction) && std::fabs(glm::length(l.direction) - 1) < 1e-3f,
                            "spot direction " + str(l.direction) + " is not a unit vector");
-            OAS_FUZZ_CHECK("scene-range", l.cosOuter <= l.cosInner && l.cosOuter >= -1 && l.cosInner <= 1,
-                           "spot cosines");
+            OAS_FUZZ_CHECK("scene-range", l.cosOuter <= l.cosInner && l.cosOuter >= -1 && l.cosInner <= 1, "spot cosines");
         }
     }
     std::size_t next = 0;
     for (const MeshInfo& m : sc.meshes) {
-        OAS_FUZZ_CHECK("scene-range", m.firstShape >= next && m.triangles > 0 &&
-                                          m.firstShape + m.triangles <= sc.shapes.size(),
+        OAS_FUZZ_CHECK("scene-range", m.firstShape >= next && m.triangles > 0 && m.firstShape + m.triangles <= sc.shapes.size(),
                        "mesh range " + m.file);
         for (std::size_t i = m.firstShape; i < m.firstShape + m.triangles; ++i)
             OAS_FUZZ_CHECK("scene-range", sc.shapes[i].type == Shape::Type::Triangle && sc.shapes[i].sourceMesh == m.file,
@@ -135,9 +132,12 @@ void checkScene(const Scene& sc)
         boxes.push_back(box);
     }
     const Bvh bvh = buildBvh(boxes, 4);
-    std::vector<std::pair<vec3, vec3>> rays = {
-        {cam.position, cam.lookAt - cam.position}, {cam.position, {1, 0, 0}}, {cam.position, {0, -1, 0}},
-        {cam.position, {0, 0, -1}},                 {cam.lookAt, {-0.3f, 0.5f, 0.7f}}, {vec3(0), {1, 1, 1}}};
+    std::vector<std::pair<vec3, vec3>> rays = {{cam.position, cam.lookAt - cam.position},
+                                               {cam.position, {1, 0, 0}},
+                                               {cam.position, {0, -1, 0}},
+                                               {cam.position, {0, 0, -1}},
+                                               {cam.lookAt, {-0.3f, 0.5f, 0.7f}},
+                                               {vec3(0), {1, 1, 1}}};
     oas::fuzz::checkBvh(bvh, boxes, 4, rays);
 }
 
@@ -161,8 +161,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // an accepted input holds none (nlohmann's lexer takes a raw NUL for the end of the input).
     const std::size_t nul = text.find('\0');
     OAS_FUZZ_CHECK("nul-accepted", nul == std::string::npos,
-                   "accepted a scene with a NUL byte at offset " + std::to_string(nul) + " of " +
-                       std::to_string(text.size()) + " (the bytes after it were ignored)");
+                   "accepted a scene with a NUL byte at offset " + std::to_string(nul) + " of " + std::to_string(text.size()) +
+                       " (the bytes after it were ignored)");
     try {
         checkScene(scene);
         if (oas::fuzz::verbose()) std::fprintf(stderr, "loaded: %s\n", summary(scene).c_str());

@@ -22,10 +22,7 @@ namespace {
 struct Key {
     std::uint32_t dims;
     std::string sampler, integrand;
-    bool operator<(const Key& o) const
-    {
-        return std::tie(dims, sampler, integrand) < std::tie(o.dims, o.sampler, o.integrand);
-    }
+    bool operator<(const Key& o) const { return std::tie(dims, sampler, integrand) < std::tie(o.dims, o.sampler, o.integrand); }
 };
 
 struct Series {
@@ -42,8 +39,8 @@ std::string cell(const SlopeFit& f)
 
 void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>& samplers)
 {
-    CsvTable csv({"dims", "integrand", "combo", "kernel", "sampler", "pattern", "N", "trials", "reference",
-                  "reference_error", "mean_estimate", "mse", "mse_stderr", "variance", "rel_mse"});
+    CsvTable csv({"dims", "integrand", "combo", "kernel", "sampler", "pattern", "N", "trials", "reference", "reference_error",
+                  "mean_estimate", "mse", "mse_stderr", "variance", "rel_mse"});
     CsvTable refCsv({"dims", "integrand", "reference", "reference_error", "method", "closed_form", "rqmc", "rqmc_stderr",
                      "z_closed_vs_rqmc"});
     std::map<Key, Series> series;
@@ -67,8 +64,8 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
             refCsv.add({std::to_string(D), fs[f].name(), fmtG(use.value, 17), fmtG(use.error, 3), use.method,
                         cf.exact ? fmtG(cf.value, 17) : "", fmtG(rq[f].value, 17), fmtG(rq[f].error, 3),
                         std::isnan(z) ? "" : fmtF(z, 2)});
-            refMd << "| " << fs[f].name() << " | " << fmtG(use.value, 12) << " | " << fmtG(use.error, 2) << " | "
-                  << use.method << " | " << fmtG(rq[f].value, 10) << " ± " << fmtG(rq[f].error, 2) << " | "
+            refMd << "| " << fs[f].name() << " | " << fmtG(use.value, 12) << " | " << fmtG(use.error, 2) << " | " << use.method
+                  << " | " << fmtG(rq[f].value, 10) << " ± " << fmtG(rq[f].error, 2) << " | "
                   << (std::isnan(z) ? "—" : fmtF(z, 2)) << " |\n";
         }
         for (size_t si = 0; si < samplers.size(); ++si) {
@@ -92,10 +89,10 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
                 const auto st = measure(pat, fs, refs, D, N, opt.trials, mixSeed(std::uint32_t(si), D, N), opt.threads);
                 for (size_t f = 0; f < fs.size(); ++f) {
                     const double rel = refs[f] != 0 ? st[f].mse / (refs[f] * refs[f]) : std::nan("");
-                    csv.add({std::to_string(D), fs[f].name(), comboName(fs[f].combo), kernelName(fs[f].kernel),
-                             spec.label, desc, std::to_string(N), std::to_string(opt.trials), fmtG(refs[f], 17),
-                             fmtG(refErr[f], 3), fmtG(st[f].mean, 17), fmtG(st[f].mse, 6), fmtG(st[f].mseStderr, 3),
-                             fmtG(st[f].variance, 6), fmtG(rel, 6)});
+                    csv.add({std::to_string(D), fs[f].name(), comboName(fs[f].combo), kernelName(fs[f].kernel), spec.label, desc,
+                             std::to_string(N), std::to_string(opt.trials), fmtG(refs[f], 17), fmtG(refErr[f], 3),
+                             fmtG(st[f].mean, 17), fmtG(st[f].mse, 6), fmtG(st[f].mseStderr, 3), fmtG(st[f].variance, 6),
+                             fmtG(rel, 6)});
                     auto& s = series[{D, spec.label, fs[f].name()}];
                     s.n.push_back(N);
                     s.mse.push_back(st[f].mse);
@@ -116,17 +113,16 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
     refCsv.write(opt.outDir + "/references.csv");
 
     // Slope fits.
-    CsvTable slopeCsv({"dims", "integrand", "sampler", "slope", "ci_low", "ci_high", "stderr", "points", "n_min",
-                       "n_max", "r2", "variance_slope"});
+    CsvTable slopeCsv({"dims", "integrand", "sampler", "slope", "ci_low", "ci_high", "stderr", "points", "n_min", "n_max", "r2",
+                       "variance_slope"});
     std::map<Key, SlopeFit> fits;
     for (auto& [k, s] : series) {
         const SlopeFit f = fitLogLog(s.n, s.mse);
         const SlopeFit fv = fitLogLog(s.n, s.var);
         fits[k] = f;
-        slopeCsv.add({std::to_string(k.dims), k.integrand, k.sampler, fmtF(f.slope, 4), fmtF(f.ciLow, 4),
-                      fmtF(f.ciHigh, 4), fmtF(f.stderr_, 4), std::to_string(f.n),
-                      std::to_string(std::uint32_t(s.n.front())), std::to_string(std::uint32_t(s.n.back())),
-                      fmtF(f.r2, 4), fmtF(fv.slope, 4)});
+        slopeCsv.add({std::to_string(k.dims), k.integrand, k.sampler, fmtF(f.slope, 4), fmtF(f.ciLow, 4), fmtF(f.ciHigh, 4),
+                      fmtF(f.stderr_, 4), std::to_string(f.n), std::to_string(std::uint32_t(s.n.front())),
+                      std::to_string(std::uint32_t(s.n.back())), fmtF(f.r2, 4), fmtF(fv.slope, 4)});
     }
     slopeCsv.write(opt.outDir + "/slopes.csv");
 
@@ -137,8 +133,8 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
 
     std::ostringstream md;
     md << "# MSE convergence slopes on the analytic integrands\n\n"
-       << "Generated by `" << opt.command << "` (" << opt.trials << " independent randomizations per point, N in ["
-       << opt.minSpp << ", " << opt.maxSpp << "]). Each cell: least-squares slope of log MSE vs log N ± the half-width of "
+       << "Generated by `" << opt.command << "` (" << opt.trials << " independent randomizations per point, N in [" << opt.minSpp
+       << ", " << opt.maxSpp << "]). Each cell: least-squares slope of log MSE vs log N ± the half-width of "
        << "its 95% confidence interval (Student t, points − 2 degrees of freedom). Every measurement is in "
        << "`analytic.csv`; fit details (points, N range, R², slope of the sample variance) in `slopes.csv`.\n\n";
     for (std::uint32_t D : opt.dims) {
@@ -164,7 +160,8 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
 
     // Goal and paper comparison (4D if studied, else the first dims).
     const std::uint32_t Dg = std::find(opt.dims.begin(), opt.dims.end(), 4u) != opt.dims.end() ? 4 : opt.dims.front();
-    const std::string binName = comboName(Combo::Additive2) + " " + kernelName(Kernel::BinaryStep) + " " + std::to_string(Dg) + "D";
+    const std::string binName =
+        comboName(Combo::Additive2) + " " + kernelName(Kernel::BinaryStep) + " " + std::to_string(Dg) + "D";
     const std::string gauName = comboName(Combo::Additive2) + " " + kernelName(Kernel::Gaussian) + " " + std::to_string(Dg) + "D";
     bool goalMet = true, goalMissed = false, anyOa = false;
     std::ostringstream goal;
@@ -180,7 +177,10 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
         goalMissed = goalMissed || v == Verdict::SecondLower;
         goal << "| " << s.label << " | " << cell(f) << " | [" << fmtF(f.ciLow, 2) << ", " << fmtF(f.ciHigh, 2) << "] | "
              << fmtF(f.stderr_, 3) << " | "
-             << (v == Verdict::FirstLower ? "yes" : v == Verdict::SecondLower ? "**no**" : "tie") << " |\n";
+             << (v == Verdict::FirstLower    ? "yes"
+                 : v == Verdict::SecondLower ? "**no**"
+                                             : "tie")
+             << " |\n";
     }
     goalMet = goalMet && anyOa;
     {
@@ -197,11 +197,11 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
         std::ostringstream o;
         const std::string rel = std::filesystem::relative(opt.outDir, p.has_parent_path() ? p.parent_path() : ".").string();
         o << "# Analytic integrands: MSE convergence of orthogonal-array sampling\n\n"
-          << "- Machine: " << cpuModel() << ", " << std::thread::hardware_concurrency() << " hardware threads ("
-          << opt.threads << " used)\n"
+          << "- Machine: " << cpuModel() << ", " << std::thread::hardware_concurrency() << " hardware threads (" << opt.threads
+          << " used)\n"
           << "- Date: " << today() << "\n"
-          << "- Command (from the repository root): `build/" << opt.command << "`" << (opt.quick ? " (quick mode)" : " (full mode)")
-          << "\n- Run time: " << fmtF(seconds, 1) << " s\n"
+          << "- Command (from the repository root): `build/" << opt.command << "`"
+          << (opt.quick ? " (quick mode)" : " (full mode)") << "\n- Run time: " << fmtF(seconds, 1) << " s\n"
           << "- Trials (independent randomizations = pixel seeds) per (sampler, N): " << opt.trials << "; N in [" << opt.minSpp
           << ", " << opt.maxSpp << "]; dimensions: ";
         for (size_t i = 0; i < opt.dims.size(); ++i) o << (i ? ", " : "") << opt.dims[i];
@@ -211,7 +211,11 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
           << opt.outDir << "`: `" << rel << "/mse_<D>d.png`, `" << rel << "/goal_2additive_binary.png`, `" << rel
           << "/projections.png`.\n\n";
         o << "## Goal\n\n> 2-additive binary step: MSE slope ≤ −1.45 for strength-2 OAs (padded samplers about −1.0).\n\n"
-          << "**" << (goalMet ? "Met" : goalMissed ? "Not met" : "Tie (not decided by the error bars)") << "** in " << Dg
+          << "**"
+          << (goalMet      ? "Met"
+              : goalMissed ? "Not met"
+                           : "Tie (not decided by the error bars)")
+          << "** in " << Dg
           << "D (criterion: the fitted slope of every strength-2 OA sampler below −1.45 by more than twice its "
              "standard error, the study's verdict rule; a slope within 2 s.e. of −1.45 is a tie, one more than "
              "2 s.e. above is a miss).\n\n| strength-2 OA | slope ± 95% | 95% CI | s.e. | ≤ −1.45 |\n|---|---|---|---|---|\n"
@@ -224,7 +228,8 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
                  "MSE at that point is several times that of Bose at a nearby N, which flattens the chooser's "
                  "slope. The per-construction series above are the strength-2 OAs the goal is about.\n\n";
         }
-        o << "## Side by side with the paper (" << Dg << "D)\n\n| integrand | sampler | paper | this study |\n|---|---|---|---|\n";
+        o << "## Side by side with the paper (" << Dg
+          << "D)\n\n| integrand | sampler | paper | this study |\n|---|---|---|---|\n";
         auto row = [&](const std::string& integ, const std::string& label, const std::string& paper) {
             o << "| " << integ << " | " << label << " | " << paper << " | " << cell(fitOf(Dg, label, integ)) << " |\n";
         };
@@ -276,16 +281,17 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
                 // ± the delta-method s.e. of the ratio from the two MSEs' s.e. over `trials` trials each.
                 const Estimate oaE{oa->second.mse[best], oa->second.mseSe[best], opt.trials, false};
                 const Estimate rndE{rndAt, rnd->second.mseSe.back() * nr / oa->second.n[best], opt.trials, false};
-                o << " " << fmtRatio(ratioOf(oaE, rndE), 3) << " (" << fmtF(fitOf(D, "BoseCMJ", name).slope, 2)
-                  << " / " << fmtF(fitOf(D, "Random", name).slope, 2) << ") |";
+                o << " " << fmtRatio(ratioOf(oaE, rndE), 3) << " (" << fmtF(fitOf(D, "BoseCMJ", name).slope, 2) << " / "
+                  << fmtF(fitOf(D, "Random", name).slope, 2) << ") |";
             }
             o << "\n";
         }
-        o << "\nRandom's MSE is scaled to Bose's N by 1/N (exact for independent samples). Each MSE is a mean over "
-          << opt.trials << " trials; the ratio's ± is its first-order s.e. from the two MSEs' standard errors "
+        o << "\nRandom's MSE is scaled to Bose's N by 1/N (exact for independent samples). Each MSE is a mean over " << opt.trials
+          << " trials; the ratio's ± is its first-order s.e. from the two MSEs' standard errors "
              "(`mse_stderr` in `analytic.csv`; the MSE plots show ± 1 s.e.).\n\n";
         o << "## Method\n\n"
-          << "- Integrands (after Subr et al. 2016, as used by Jarosz et al. 2019): kernels g(r) with r_end = 3/π, r_start = r_end − 0.2, "
+          << "- Integrands (after Subr et al. 2016, as used by Jarosz et al. 2019): kernels g(r) with r_end = 3/π, r_start = "
+             "r_end − 0.2, "
              "σ = 1/3: Gaussian exp(−r²/2σ²), linear step 1 − linearstep(r_start, r_end, r) (continuous, kinks at "
              "r_start and r_end), binary step [r < r_end] (discontinuous); combined as 1-additive Σ_i g(x_i), "
              "2-additive Σ_{i<j} g(‖(x_i,x_j)‖), 2-multiplicative Π_{i<j} g(‖(x_i,x_j)‖) and radial g(‖x‖).\n"
@@ -312,7 +318,8 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
              "radial: separable Gaussian, or the ball in the positive orthant). Their error is rounding (stated as "
              "1e-14 relative). The 2-additive I2 values were also checked against 40×40 Gauss-Legendre in polar "
              "coordinates (unit test). The 2-multiplicative linear step has no closed form: its reference is a "
-             "randomized-QMC estimate (" << opt.rqmcReps << " Owen-scrambled Sobol sets of 2^" << opt.rqmcLog2
+             "randomized-QMC estimate ("
+          << opt.rqmcReps << " Owen-scrambled Sobol sets of 2^" << opt.rqmcLog2
           << " points), its error the standard error. Every integrand is also estimated by that RQMC, and z is "
              "(closed form − RQMC)/SE, a check of the closed forms and of the sampler.\n\n"
           << "| integrand | reference | abs. error | method | RQMC ± SE | z |\n|---|---|---|---|---|---|\n"
@@ -320,8 +327,10 @@ void runAnalyticStudy(const AnalyticOptions& opt, const std::vector<SamplerSpec>
         o << "## All slopes\n\n" << md.str().substr(md.str().find("## ")) << "\n";
         writeSection(opt.outDir + "/analytic.md", demoteHeadings(o.str()));
     }
-    std::fprintf(stderr, "done in %.1f s; goal (2-additive binary step, strength-2 OAs <= -1.45 in %uD): %s\n", seconds,
-                 Dg, goalMet ? "met" : goalMissed ? "NOT met" : "tie (within 2 s.e.)");
+    std::fprintf(stderr, "done in %.1f s; goal (2-additive binary step, strength-2 OAs <= -1.45 in %uD): %s\n", seconds, Dg,
+                 goalMet      ? "met"
+                 : goalMissed ? "NOT met"
+                              : "tie (within 2 s.e.)");
 }
 
 }  // namespace oas::study

@@ -63,10 +63,10 @@ std::string runCostStudy(const CostOptions& o, const std::vector<SamplerSpec>& s
         hashOnly.run(pattern, r);
         const double g = sampleDims / medianSeconds(o.repeats, [&] { gpu.run(pattern, r); }) / 1e6;
         const double h = sampleDims / medianSeconds(o.repeats, [&] { hashOnly.run(pattern, r); }) / 1e6;
-        csv.add({s.label, oas::describe(pattern), std::to_string(spp), std::to_string(r.width * r.height),
-                 std::to_string(o.dims), fmtG(cpu1), fmtG(cpuAll), std::to_string(threads), fmtG(g), fmtG(h), fmtG(g / h)});
-        rows << "| " << s.label << " | " << oas::describe(pattern) << " | " << fmtF(cpu1, 1) << " | " << fmtF(cpuAll, 1)
-             << " | " << fmtF(g, 1) << " | " << fmtF(g / h, 2) << " |\n";
+        csv.add({s.label, oas::describe(pattern), std::to_string(spp), std::to_string(r.width * r.height), std::to_string(o.dims),
+                 fmtG(cpu1), fmtG(cpuAll), std::to_string(threads), fmtG(g), fmtG(h), fmtG(g / h)});
+        rows << "| " << s.label << " | " << oas::describe(pattern) << " | " << fmtF(cpu1, 1) << " | " << fmtF(cpuAll, 1) << " | "
+             << fmtF(g, 1) << " | " << fmtF(g / h, 2) << " |\n";
         std::fprintf(stderr, "[cost] %s: CPU %.1f / %.1f, GPU %.1f M sample-dims/s\n", s.label.c_str(), cpu1, cpuAll, g);
     }
     csv.write(o.outDir + "/cost.csv");
@@ -75,12 +75,13 @@ std::string runCostStudy(const CostOptions& o, const std::vector<SamplerSpec>& s
        << "- Device: " << context.deviceName() << "; CPU: the same GLSL compiled as C++, 1 and " << threads
        << " threads\n- Command: `build/" << o.command << "`" << (o.quick ? " (quick mode)" : "") << "; run time "
        << fmtF(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0) << " s\n"
-       << "- Work: " << o.pixels << " pixels × the sampler's count nearest 128 spp × " << o.dims
-       << " dims, median of " << o.repeats
+       << "- Work: " << o.pixels << " pixels × the sampler's count nearest 128 spp × " << o.dims << " dims, median of "
+       << o.repeats
        << " runs; GPU results stay in the device buffer. GPU ÷ hash-only compares with a kernel of the same shape "
           "that only hashes, measured in the same run (the ratio is the stable figure on a shared machine). "
           "Data: [`cost.csv`](study/cost.csv).\n"
-       << "- For scale (Mitsuba 3 LLVM, measured by this project on the same machine kind at 121 spp × 16384 px × 8 dims; bench/peer/mitsuba_peer.sh reruns it): `orthogonal` 295, `multijitter` 1000, "
+       << "- For scale (Mitsuba 3 LLVM, measured by this project on the same machine kind at 121 spp × 16384 px × 8 dims; "
+          "bench/peer/mitsuba_peer.sh reruns it): `orthogonal` 295, `multijitter` 1000, "
           "`independent` 2900 M sample-dims/s.\n\n"
        << "| sampler | pattern | CPU 1 thread M/s | CPU " << threads << " threads M/s | GPU M/s | GPU ÷ hash-only |\n"
        << "|---|---|---|---|---|---|\n"

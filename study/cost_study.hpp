@@ -23,7 +23,6 @@ struct CostOptions {
 
 /// Measures every sampler at its count nearest 128 spp; writes outDir/cost.csv and returns the
 /// markdown section.
-std::string runCostStudy(const CostOptions& options, const std::vector<SamplerSpec>& samplers,
-                          oas::vk::Context& context);
+std::string runCostStudy(const CostOptions& options, const std::vector<SamplerSpec>& samplers, oas::vk::Context& context);
 
 }  // namespace oas::study

@@ -82,9 +82,8 @@ std::uint32_t nearestCount(const SamplerSpec& s, std::uint32_t dims, std::uint32
     return best;
 }
 
-std::vector<Stats> measure(const oas::Pattern& pattern, const std::vector<Integrand>& fs,
-                           const std::vector<double>& references, std::uint32_t dims, std::uint32_t spp,
-                           std::uint32_t trials, std::uint32_t seed, unsigned threads)
+std::vector<Stats> measure(const oas::Pattern& pattern, const std::vector<Integrand>& fs, const std::vector<double>& references,
+                           std::uint32_t dims, std::uint32_t spp, std::uint32_t trials, std::uint32_t seed, unsigned threads)
 {
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     const size_t nf = fs.size();

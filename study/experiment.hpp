@@ -42,9 +42,8 @@ struct Stats {
 /// Runs `trials` independent N-sample estimates of every integrand (same point sets for all),
 /// one pixel seed each (pixels [0, trials) of row 0, user seed `seed`), and returns per-integrand
 /// statistics against `references` (same order as fs).
-std::vector<Stats> measure(const oas::Pattern& pattern, const std::vector<Integrand>& fs,
-                           const std::vector<double>& references, std::uint32_t dims, std::uint32_t spp,
-                           std::uint32_t trials, std::uint32_t seed, unsigned threads);
+std::vector<Stats> measure(const oas::Pattern& pattern, const std::vector<Integrand>& fs, const std::vector<double>& references,
+                           std::uint32_t dims, std::uint32_t spp, std::uint32_t trials, std::uint32_t seed, unsigned threads);
 
 /// Randomized-QMC reference: `reps` independent Owen-scrambled Sobol point sets of 2^log2n
 /// points; value = mean of the replicate estimates, error = their standard error.

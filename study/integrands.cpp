@@ -9,10 +9,14 @@ namespace oas::study {
 double kernel(Kernel k, double r)
 {
     switch (k) {
-    case Kernel::Gaussian: return std::exp(-r * r / (2 * kSigma * kSigma));
-    case Kernel::LinearStep: return 1.0 - std::clamp((r - kRStart) / (kREnd - kRStart), 0.0, 1.0);
-    case Kernel::BinaryStep: return r < kREnd ? 1.0 : 0.0;
-    case Kernel::Constant: return 1.0;
+    case Kernel::Gaussian:
+        return std::exp(-r * r / (2 * kSigma * kSigma));
+    case Kernel::LinearStep:
+        return 1.0 - std::clamp((r - kRStart) / (kREnd - kRStart), 0.0, 1.0);
+    case Kernel::BinaryStep:
+        return r < kREnd ? 1.0 : 0.0;
+    case Kernel::Constant:
+        return 1.0;
     }
     return 0;
 }
@@ -20,10 +24,14 @@ double kernel(Kernel k, double r)
 std::string kernelName(Kernel k)
 {
     switch (k) {
-    case Kernel::Gaussian: return "gaussian";
-    case Kernel::LinearStep: return "linear-step";
-    case Kernel::BinaryStep: return "binary-step";
-    case Kernel::Constant: return "constant";
+    case Kernel::Gaussian:
+        return "gaussian";
+    case Kernel::LinearStep:
+        return "linear-step";
+    case Kernel::BinaryStep:
+        return "binary-step";
+    case Kernel::Constant:
+        return "constant";
     }
     return "?";
 }
@@ -31,10 +39,14 @@ std::string kernelName(Kernel k)
 std::string comboName(Combo c)
 {
     switch (c) {
-    case Combo::Additive1: return "1-additive";
-    case Combo::Additive2: return "2-additive";
-    case Combo::Multiplicative2: return "2-multiplicative";
-    case Combo::Radial: return "radial";
+    case Combo::Additive1:
+        return "1-additive";
+    case Combo::Additive2:
+        return "2-additive";
+    case Combo::Multiplicative2:
+        return "2-multiplicative";
+    case Combo::Radial:
+        return "radial";
     }
     return "?";
 }
@@ -60,13 +72,16 @@ constexpr std::uint32_t kMaxEvalDims = 64;
 inline double kernelR2(Kernel k, double r2, double gauss)
 {
     switch (k) {
-    case Kernel::Gaussian: return gauss;
+    case Kernel::Gaussian:
+        return gauss;
     case Kernel::LinearStep:
         if (r2 <= kRStart * kRStart) return 1.0;
         if (r2 >= kREnd * kREnd) return 0.0;
         return 1.0 - (std::sqrt(r2) - kRStart) / (kREnd - kRStart);
-    case Kernel::BinaryStep: return r2 < kREnd * kREnd ? 1.0 : 0.0;
-    case Kernel::Constant: return 1.0;
+    case Kernel::BinaryStep:
+        return r2 < kREnd * kREnd ? 1.0 : 0.0;
+    case Kernel::Constant:
+        return 1.0;
     }
     return 0;
 }
@@ -100,7 +115,9 @@ void evaluateAll(const std::vector<Integrand>& fs, const float* x, std::uint32_t
             for (std::uint32_t i = 0; i < dims && acc != 0; ++i)
                 for (std::uint32_t j = i + 1; j < dims; ++j) acc *= kernelR2(k, sq[i] + sq[j], ex[i] * ex[j]);
             break;
-        case Combo::Radial: acc = kernelR2(k, norm2, gaussAll); break;
+        case Combo::Radial:
+            acc = kernelR2(k, norm2, gaussAll);
+            break;
         }
         out[f] = acc;
     }
@@ -140,10 +157,14 @@ void gaussLegendre(int n, std::vector<double>& nodes, std::vector<double>& weigh
 double kernelIntegral1D(Kernel k)
 {
     switch (k) {
-    case Kernel::Gaussian: return kSigma * std::sqrt(kPi / 2) * std::erf(1 / (kSigma * std::sqrt(2.0)));
-    case Kernel::LinearStep: return kRStart + 0.5 * (kREnd - kRStart);  // r_end < 1
-    case Kernel::BinaryStep: return kREnd;
-    case Kernel::Constant: return 1.0;
+    case Kernel::Gaussian:
+        return kSigma * std::sqrt(kPi / 2) * std::erf(1 / (kSigma * std::sqrt(2.0)));
+    case Kernel::LinearStep:
+        return kRStart + 0.5 * (kREnd - kRStart);  // r_end < 1
+    case Kernel::BinaryStep:
+        return kREnd;
+    case Kernel::Constant:
+        return 1.0;
     }
     return 0;
 }
@@ -156,8 +177,7 @@ double radialMoment(Kernel k, std::uint32_t d)
     if (k == Kernel::BinaryStep) return std::pow(re, D) / D;
     // linear step: 1 on [0, rs], (re - r)/(re - rs) on [rs, re]
     return std::pow(rs, D) / D +
-           (re * (std::pow(re, D) - std::pow(rs, D)) / D - (std::pow(re, D + 1) - std::pow(rs, D + 1)) / (D + 1)) /
-               (re - rs);
+           (re * (std::pow(re, D) - std::pow(rs, D)) / D - (std::pow(re, D + 1) - std::pow(rs, D + 1)) / (D + 1)) / (re - rs);
 }
 
 double quadrature2DOrder(Kernel k, int n)
@@ -193,11 +213,16 @@ Reference closedFormReference(const Integrand& f)
     double v = std::numeric_limits<double>::quiet_NaN();
     const double I1 = kernelIntegral1D(f.kernel);
     switch (f.combo) {
-    case Combo::Additive1: v = D * I1; ref.method = "closed form: D * integral_0^1 g"; break;
+    case Combo::Additive1:
+        v = D * I1;
+        ref.method = "closed form: D * integral_0^1 g";
+        break;
     case Combo::Additive2: {
         double I2 = 1;
-        if (f.kernel == Kernel::Gaussian) I2 = I1 * I1;
-        else if (f.kernel == Kernel::BinaryStep) I2 = kPi * re * re / 4;
+        if (f.kernel == Kernel::Gaussian)
+            I2 = I1 * I1;
+        else if (f.kernel == Kernel::BinaryStep)
+            I2 = kPi * re * re / 4;
         else if (f.kernel == Kernel::LinearStep)
             I2 = kPi / 2 * (rs * rs / 2 + (re * (re * re - rs * rs) / 2 - (re * re * re - rs * rs * rs) / 3) / (re - rs));
         v = pairs * I2;
@@ -205,7 +230,8 @@ Reference closedFormReference(const Integrand& f)
         break;
     }
     case Combo::Multiplicative2:
-        if (f.kernel == Kernel::Constant || f.dims < 2) v = 1;
+        if (f.kernel == Kernel::Constant || f.dims < 2)
+            v = 1;
         else if (f.kernel == Kernel::Gaussian) {
             // prod_{i<j} exp(-(x_i^2 + x_j^2) / 2 s^2) = prod_i exp(-(D-1) x_i^2 / 2 s^2)
             const double s = kSigma / std::sqrt(D - 1);
@@ -224,7 +250,8 @@ Reference closedFormReference(const Integrand& f)
         break;
     case Combo::Radial: {
         const double surface = 2 * std::pow(kPi, D / 2) / std::tgamma(D / 2);  // S_{D-1}
-        if (f.kernel == Kernel::Constant) v = 1;
+        if (f.kernel == Kernel::Constant)
+            v = 1;
         else if (f.kernel == Kernel::Gaussian) {
             v = std::pow(I1, D);
             ref.method = "closed form (separable Gaussian)";

@@ -53,11 +53,9 @@ std::string stamped(const std::string& section)
     const size_t eol = section.find('\n');
     if (eol == std::string::npos) return section;
     const size_t body = section.find_first_not_of('\n', eol);
-    return section.substr(0, body) + "- Machine: " + cpuModel() + " (" +
-           std::to_string(std::thread::hardware_concurrency()) + " threads), " + today() + "\n" +
-           section.substr(body);
+    return section.substr(0, body) + "- Machine: " + cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) +
+           " threads), " + today() + "\n" + section.substr(body);
 }
-
 
 std::string readFile(const std::string& path)
 {
@@ -71,11 +69,10 @@ std::string spectraSection(const std::string& command, bool quick, double second
 {
     std::ostringstream md;
     md << "## 2D projections and their power spectra\n\n"
-       << "- Command: `build/" << command << "`" << (quick ? " (quick mode)" : "") << "; run time " << fmtF(seconds, 1)
-       << " s\n"
+       << "- Command: `build/" << command << "`" << (quick ? " (quick mode)" : "") << "; run time " << fmtF(seconds, 1) << " s\n"
        << "- Data: [`points.csv`](study/points.csv) (one randomization per sampler), [`spectra.csv`](study/spectra.csv) "
-          "(periodogram |Σ exp(−2πi k·x)|²/N averaged over " << (quick ? 16 : 64)
-       << " independent randomizations, integer k, DC set to 0; white noise is 1 everywhere)\n\n"
+          "(periodogram |Σ exp(−2πi k·x)|²/N averaged over "
+       << (quick ? 16 : 64) << " independent randomizations, integer k, DC set to 0; white noise is 1 everywhere)\n\n"
        << "Pairs within a block of a strength-2 OA show a dark cross (the Latin-hypercube axes) and a dark "
           "low-frequency disc (2D stratification: the picture Jarosz et al. 2019 use to explain the method); "
           "pairs across blocks keep only the cross, as a padded sampler does. CMJ offsets darken the lowest "
@@ -110,22 +107,25 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
         scenes.erase(at, answer.size());
         answer.replace(0, std::string("### The short answer").size(), "## The short answer");
     }
-    const std::string cost = readFile(outDir + "/cost.md"),
-                      analytic = readFile(outDir + "/analytic.md"), spectra = readFile(outDir + "/spectra.md"),
-                      pairs = readFile(outDir + "/pairs.md");
+    const std::string cost = readFile(outDir + "/cost.md"), analytic = readFile(outDir + "/analytic.md"),
+                      spectra = readFile(outDir + "/spectra.md"), pairs = readFile(outDir + "/pairs.md");
     std::ostringstream o;
-    o << "# Study: which sampler should I use, and at what cost?\n\n" << answer
+    o << "# Study: which sampler should I use, and at what cost?\n\n"
+      << answer
       << "Orthogonal-array samplers (Jarosz et al. 2019) against the baselines of the paper, measured by this "
          "repository's own code. Regenerate everything with `scripts/study.sh` (full mode: every sampler, "
-         "64 px, at least 6 renders per scene point plus up to " << kFullExtraSeconds << " s of further renders per "
+         "64 px, at least 6 renders per scene point plus up to "
+      << kFullExtraSeconds
+      << " s of further renders per "
          "scene where they shrink the error bars most, and the 7D and 9D scenes at the paper's 3969/4096 spp; many hours on "
          "2 cores, see below) or `scripts/study.sh --quick` (about 6 minutes); "
          "`build/oas-study --parts ...` reruns single "
          "parts, and this file is reassembled from the parts' sections in `docs/study/*.md`. Each section "
-         "states the machine, date and command that made it. Assembled " << today() << " on " << cpuModel()
-      << ".\n\n"
+         "states the machine, date and command that made it. Assembled "
+      << today() << " on " << cpuModel() << ".\n\n"
       << "Scope: in full mode the scene ladders run from 16 to 1024 spp (the 7D and 9D scenes also at the "
-         "paper's 3969/4096) and images are 64 px wide, because lavapipe renders these scenes at a few Mpaths/s at most on 2 cores "
+         "paper's 3969/4096) and images are 64 px wide, because lavapipe renders these scenes at a few Mpaths/s at most on 2 "
+         "cores "
          "(the scene section's cost table gives each sampler's rate); its first table gives each scene's own "
          "settings. Errors and times are measured apart: errors from the accuracy renders (bit-identical on any "
          "machine, so they may be pooled over runs), times from one cost run per scene (scene_costs.csv). "
@@ -180,7 +180,8 @@ static std::vector<SamplerSpec> sceneSamplersOf(const std::vector<SamplerSpec>& 
 
 int main(int argc, char** argv)
 {
-    CLI::App app{"oas-study: the sampler study (analytic MSE slopes, scene error vs spp and time, cost, projections and spectra) -> docs/study, docs/STUDY.md"};
+    CLI::App app{"oas-study: the sampler study (analytic MSE slopes, scene error vs spp and time, cost, projections and spectra) "
+                 "-> docs/study, docs/STUDY.md"};
     bool quick = false, noPlot = false, sceneTopUp = false;
     std::uint32_t trials = 0, minSpp = 16, maxSpp = 0, rqmcLog2 = 16, rqmcReps = 64;
     unsigned threads = 0;
@@ -209,10 +210,12 @@ int main(int argc, char** argv)
     double sceneRelSe = 0.1, sceneExtraSeconds = -1;
     app.add_option("--cost-rounds", costRounds, "scene-costs: rounds of every (sampler, spp) point (3)")
         ->check(CLI::Range(3u, 1000u));
-    app.add_option("--parts", parts, "parts to run: analytic pairs spectra cost scenes scene-costs (default: all; scene-costs "
-                                     "times the measured scene points in one run per scene, --scene to choose), or none (only reassemble "
-                                     "the scene section from its data files, STUDY.md, and redraw); STUDY.md is assembled from every part's section in the "
-                                     "output folder")
+    app.add_option(
+           "--parts", parts,
+           "parts to run: analytic pairs spectra cost scenes scene-costs (default: all; scene-costs "
+           "times the measured scene points in one run per scene, --scene to choose), or none (only reassemble "
+           "the scene section from its data files, STUDY.md, and redraw); STUDY.md is assembled from every part's section in the "
+           "output folder")
         ->check(CLI::IsMember({"analytic", "pairs", "spectra", "cost", "scenes", "scene-costs", "none"}));
     app.add_option("--scenes-dir", scenesDir, "scene folder (scenes)");
     app.add_option("--scene", sceneNames, "scenes to study (default: cornell7d blue_spheres9d interior_deep)");
@@ -241,7 +244,9 @@ int main(int argc, char** argv)
     app.add_option("--scene-max-rare-renders", sceneMaxRareRenders,
                    "most renders of the rare pixels per point (quick 1024, full 16384)")
         ->check(CLI::Range(32u, 1u << 20));
-    app.add_option("--reference-spp", referenceSpp, "scene reference spp (default: the smallest power of two from 256 that is at least 16 x the scene's largest count, at most 2^24; STUDY.md states the ratio)")
+    app.add_option("--reference-spp", referenceSpp,
+                   "scene reference spp (default: the smallest power of two from 256 that is at least 16 x the scene's largest "
+                   "count, at most 2^24; STUDY.md states the ratio)")
         ->check(CLI::Range(256u, 1u << 24));
     app.add_flag("--scene-top-up", sceneTopUp,
                  "add renders to the chosen scenes' earlier measurements (same settings and reference; a larger "
@@ -272,15 +277,12 @@ int main(int argc, char** argv)
     return oas::runCli("oas-study", app, argc, argv, [&] {
         if (trials == 0) trials = quick ? 512 : 4096;
         if (maxSpp == 0) maxSpp = quick ? 2048 : 4096;
-        if (dimsList.empty())
-            dimsList = quick ? std::vector<std::uint32_t>{4, 8} : std::vector<std::uint32_t>{4, 8, 16};
+        if (dimsList.empty()) dimsList = quick ? std::vector<std::uint32_t>{4, 8} : std::vector<std::uint32_t>{4, 8, 16};
         if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
         std::string command = "oas-study";
         for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
 
-        auto wants = [&](const std::string& part) {
-            return std::find(parts.begin(), parts.end(), part) != parts.end();
-        };
+        auto wants = [&](const std::string& part) { return std::find(parts.begin(), parts.end(), part) != parts.end(); };
         const auto t0 = std::chrono::steady_clock::now();
         std::filesystem::create_directories(outDir);
         if (sceneTopUp && (!wants("scenes") || parts.size() != 1))
@@ -288,12 +290,10 @@ int main(int argc, char** argv)
         auto samplers = studySamplers();
         if (!only.empty()) {
             for (const auto& label : only)
-                if (std::none_of(samplers.begin(), samplers.end(),
-                                 [&](const SamplerSpec& s) { return s.label == label; })) {
+                if (std::none_of(samplers.begin(), samplers.end(), [&](const SamplerSpec& s) { return s.label == label; })) {
                     std::string valid;
                     for (const auto& s : samplers) valid += (valid.empty() ? "" : ", ") + s.label;
-                    throw std::invalid_argument("--only: \"" + label + "\" is not a sampler label (valid: " + valid +
-                                                ")");
+                    throw std::invalid_argument("--only: \"" + label + "\" is not a sampler label (valid: " + valid + ")");
                 }
             std::vector<SamplerSpec> keep;
             for (auto& s : samplers)
@@ -317,9 +317,8 @@ int main(int argc, char** argv)
                     const std::uint32_t seed = oas::pixelSeed(0, 0, kProjectionSeed);
                     for (const auto& pair : projectionPairs(*it, pat))
                         for (std::uint32_t i = 0; i < N; ++i)
-                            pts.add({label, oas::describe(pat), std::to_string(N), pair.name,
-                                     std::to_string(pair.a), std::to_string(pair.b), std::to_string(i),
-                                     fmtG(oas::sample(pat, seed, i, pair.a), 9),
+                            pts.add({label, oas::describe(pat), std::to_string(N), pair.name, std::to_string(pair.a),
+                                     std::to_string(pair.b), std::to_string(i), fmtG(oas::sample(pat, seed, i, pair.a), 9),
                                      fmtG(oas::sample(pat, seed, i, pair.b), 9)});
                 } catch (const std::exception& e) {
                     std::fprintf(stderr, "points: skip %s: %s\n", label.c_str(), e.what());
@@ -365,8 +364,9 @@ int main(int argc, char** argv)
             runProjections();
             const auto ts = std::chrono::steady_clock::now();
             writeSpectra(outDir, quick ? 16 : 64, quick ? 16 : 20, threads);
-            writeSection(outDir + "/spectra.md", stamped(spectraSection(command, quick,
-                         std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count())));
+            writeSection(outDir + "/spectra.md",
+                         stamped(spectraSection(command, quick,
+                                                std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count())));
         }
         if (wants("cost")) {
             CostOptions co;
@@ -424,8 +424,8 @@ int main(int argc, char** argv)
             const std::string refPath = outDir + "/scene_references.csv", csvPath = outDir + "/scenes.csv",
                               costPath = outDir + "/scene_costs.csv", buildPath = outDir + "/scene_cost_builds.csv";
             if (!std::filesystem::exists(refPath) || !std::filesystem::exists(csvPath))
-                throw std::invalid_argument("--parts scene-costs times the points of measured scenes, and " + refPath +
-                                            " or " + csvPath + " is missing: run --parts scenes first");
+                throw std::invalid_argument("--parts scene-costs times the points of measured scenes, and " + refPath + " or " +
+                                            csvPath + " is missing: run --parts scenes first");
             const auto records = readSceneRecords(refPath);
             const auto measurements = readSceneMeasurements(csvPath);
             SceneCostOptions co;
@@ -445,8 +445,7 @@ int main(int argc, char** argv)
                         builds.add(row);
             }
             for (const auto& record : records) {
-                if (!sceneNames.empty() &&
-                    std::find(sceneNames.begin(), sceneNames.end(), record.name) == sceneNames.end())
+                if (!sceneNames.empty() && std::find(sceneNames.begin(), sceneNames.end(), record.name) == sceneNames.end())
                     continue;
                 co.runId = record.name + "-" + timestamp();
                 double pipelineSeconds = 0;

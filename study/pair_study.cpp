@@ -67,8 +67,8 @@ void pairEstimates(const double* x, std::uint32_t n, double* est)
 
 /// MSE (and its standard error) of each pair and of their sum for integrand `f`, from trials x
 /// kValues estimates.
-PairMse summarize(const std::string& variant, int f, std::uint32_t q, const std::vector<double>& est,
-                  std::uint32_t trials, double reference)
+PairMse summarize(const std::string& variant, int f, std::uint32_t q, const std::vector<double>& est, std::uint32_t trials,
+                  double reference)
 {
     PairMse r;
     r.variant = variant;
@@ -215,10 +215,10 @@ std::string runPairStudy(const PairStudyOptions& o)
         const std::string name = r.integrand == 0 ? "gaussian" : "periodic";
         for (int k = 0; k < 6; ++k)
             csv.add({r.variant, name, std::to_string(r.q), std::to_string(r.n), std::to_string(o.trials),
-                     "(" + std::to_string(kPairs[k][0]) + "," + std::to_string(kPairs[k][1]) + ")",
-                     k < kPartnerPairs ? "1" : "0", fmtG(r.mse[k]), fmtG(r.mseSe[k])});
-        csv.add({r.variant, name, std::to_string(r.q), std::to_string(r.n), std::to_string(o.trials), "sum", "",
-                 fmtG(r.sumMse), fmtG(r.sumMseSe)});
+                     "(" + std::to_string(kPairs[k][0]) + "," + std::to_string(kPairs[k][1]) + ")", k < kPartnerPairs ? "1" : "0",
+                     fmtG(r.mse[k]), fmtG(r.mseSe[k])});
+        csv.add({r.variant, name, std::to_string(r.q), std::to_string(r.n), std::to_string(o.trials), "sum", "", fmtG(r.sumMse),
+                 fmtG(r.sumMseSe)});
     }
     csv.write(o.outDir + "/pairs.csv");
 
@@ -249,8 +249,7 @@ std::string runPairStudy(const PairStudyOptions& o)
     const Fits& mj = fits[1][0];
     const bool randomizationSame = overlap(fits[0][0].partner, fits[2][0].partner) &&
                                    overlap(fits[0][0].cross, fits[2][0].cross) &&
-                                   overlap(fits[1][0].partner, fits[3][0].partner) &&
-                                   overlap(fits[1][0].cross, fits[3][0].cross);
+                                   overlap(fits[1][0].partner, fits[3][0].partner) && overlap(fits[1][0].cross, fits[3][0].cross);
     const bool partnerLoss = shallower(cmj.partner, mj.partner);
     const bool crossLoss = shallower(cmj.cross, mj.cross);
     const bool periodicRecovers = !shallower(fits[0][1].partner, fits[1][1].partner);
@@ -259,8 +258,8 @@ std::string runPairStudy(const PairStudyOptions& o)
     md << "## Why BoseCMJ's 2-additive Gaussian slope is −1.6 and BoseMJ's −2\n\n"
        << "- Command: `" << o.command << "`; run time "
        << fmtF(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0) << " s (CPU)\n"
-       << "- A 4D Bose pattern at prime q = " << qs.front() << " … " << qs.back() << " (N = q², " << qs.size()
-       << " counts), " << o.trials << " independent randomizations per count. Each of the six 2D projections is "
+       << "- A 4D Bose pattern at prime q = " << qs.front() << " … " << qs.back() << " (N = q², " << qs.size() << " counts), "
+       << o.trials << " independent randomizations per count. Each of the six 2D projections is "
        << "integrated on its own, with two integrands: the 2-additive Gaussian's term g(‖(x_a, x_b)‖) (smooth; "
        << "radius from the origin, so not periodic; reference by quadrature) and a smooth *periodic* one, "
        << "exp(sin(2π(x + 2y))/2 + cos(2πx)/2) (reference: the 256² trapezoid rule, exact to rounding for it).\n"
@@ -278,9 +277,9 @@ std::string runPairStudy(const PairStudyOptions& o)
           "cross MSE |\n|---|---|---|---|---|---|---|\n";
     for (int f = 0; f < kIntegrands; ++f)
         for (size_t i = 0; i < variants.size(); ++i)
-            md << "| " << variants[i].label << " | " << integrandNames[f] << " | " << slopeCell(fits[i][f].partner)
-               << " | " << slopeCell(fits[i][f].cross) << " | " << slopeCell(fits[i][f].sum) << " | "
-               << fmtG(fits[i][f].partnerAtTop, 3) << " | " << fmtG(fits[i][f].crossAtTop, 3) << " |\n";
+            md << "| " << variants[i].label << " | " << integrandNames[f] << " | " << slopeCell(fits[i][f].partner) << " | "
+               << slopeCell(fits[i][f].cross) << " | " << slopeCell(fits[i][f].sum) << " | " << fmtG(fits[i][f].partnerAtTop, 3)
+               << " | " << fmtG(fits[i][f].crossAtTop, 3) << " |\n";
     md << "\nWhat the measurement says:\n\n"
        << "- **Not our randomization.** "
        << (randomizationSame ? "The library's affine permutations and the textbook's uniform ones give the same slopes "
@@ -292,10 +291,10 @@ std::string runPairStudy(const PairStudyOptions& o)
        << "\n- **Not the construction.** All four rows are the same array, OA(q², 4, q, 2); only the offsets change.\n"
        << "- **The correlated offsets, on the partner pairs";
     if (partnerLoss && !crossLoss) {
-        md << ".** CMJ's partner pairs converge at " << slopeCell(cmj.partner) << " against MJ's "
-           << slopeCell(mj.partner) << " (MSE " << fmtF(cmj.partnerAtTop / mj.partnerAtTop, 1) << "× MJ's at N = "
-           << nTop << "), while its cross pairs are no worse (" << slopeCell(cmj.cross) << " against "
-           << slopeCell(mj.cross) << ", MSE " << fmtF(cmj.crossAtTop / mj.crossAtTop, 2) << "× MJ's). "
+        md << ".** CMJ's partner pairs converge at " << slopeCell(cmj.partner) << " against MJ's " << slopeCell(mj.partner)
+           << " (MSE " << fmtF(cmj.partnerAtTop / mj.partnerAtTop, 1) << "× MJ's at N = " << nTop
+           << "), while its cross pairs are no worse (" << slopeCell(cmj.cross) << " against " << slopeCell(mj.cross) << ", MSE "
+           << fmtF(cmj.crossAtTop / mj.crossAtTop, 2) << "× MJ's). "
            << "The partner pairs dominate the sum, hence the −1.6 of the analytic table. Why: a sub-offset shared "
               "by a whole row of cells moves the row as one. Independent per-cell offsets (MJ) make N independent "
               "first-order errors of size ~ 1/(N q) each: MSE ~ N·(1/(N q))² = N^-2. A common shift δ_Y ~ 1/q of "
@@ -303,16 +302,15 @@ std::string runPairStudy(const PairStudyOptions& o)
               "the edge difference: the row's error is ~ (q/N)·δ_Y·(f(1, y) − f(0, y)) ~ 1/N, and q rows with "
               "independent τ(Y) give MSE ~ q/N² = N^-1.5 unless f takes the same values on opposite edges. "
            << (periodicRecovers ? "The periodic integrand confirms it: there f(1, y) = f(0, y), and CMJ's partner pairs "
-                                  "converge at " + slopeCell(fits[0][1].partner) + " (MJ " +
-                                      slopeCell(fits[1][1].partner) + ")."
+                                  "converge at " +
+                                      slopeCell(fits[0][1].partner) + " (MJ " + slopeCell(fits[1][1].partner) + ")."
                                 : "The periodic integrand does **not** confirm it (CMJ's partner pairs are still "
                                   "shallower there: " +
                                       slopeCell(fits[0][1].partner) + " against " + slopeCell(fits[1][1].partner) +
                                       "); the explanation is incomplete.")
            << "\n- **For users.** CMJ is the offset the paper pairs with Bose and the one Kensler designed for 2D "
               "pairs; it wins where the integrand over a partner pair's square is periodic (above: "
-           << fmtF(fits[1][1].partnerAtTop / fits[0][1].partnerAtTop, 0)
-           << "× lower MSE than MJ at N = " << nTop
+           << fmtF(fits[1][1].partnerAtTop / fits[0][1].partnerAtTop, 0) << "× lower MSE than MJ at N = " << nTop
            << ") and loses where it differs between opposite edges, as most rendering integrands do (a light's "
               "footprint, a pixel filter's support). Prefer MJ offsets for smooth, non-periodic pairs.\n";
     } else {

@@ -27,7 +27,7 @@ struct PairMse {
     std::string variant;
     int integrand = 0;  ///< 0: the Gaussian term g(||(x_a, x_b)||); 1: a smooth periodic integrand
     std::uint32_t q = 0, n = 0;
-    std::vector<double> mse, mseSe;  ///< per pair
+    std::vector<double> mse, mseSe;   ///< per pair
     double sumMse = 0, sumMseSe = 0;  ///< the 2-additive sum over the six pairs
 };
 

@@ -41,8 +41,8 @@ struct Render {
     double seconds = 0;
 };
 
-Render render(oas::render::GpuTracer& tracer, const oas::render::DimensionPlan& plan, std::uint32_t width,
-              std::uint32_t height, std::uint32_t spp, std::uint32_t seed)
+Render render(oas::render::GpuTracer& tracer, const oas::render::DimensionPlan& plan, std::uint32_t width, std::uint32_t height,
+              std::uint32_t spp, std::uint32_t seed)
 {
     tracer.clear();
     const auto start = Clock::now();
@@ -74,11 +74,11 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     std::vector<SceneCase> cases;
     for (const auto& c : studyScenes()) {
         const std::string stem = fs::path(c.file).stem().string();
-        if (o.scenes.empty() || std::find(o.scenes.begin(), o.scenes.end(), stem) != o.scenes.end())
-            cases.push_back(c);
+        if (o.scenes.empty() || std::find(o.scenes.begin(), o.scenes.end(), stem) != o.scenes.end()) cases.push_back(c);
     }
-    if (cases.empty()) throw std::invalid_argument("--scene: none of the given names is a study scene "
-                                                   "(cornell7d, blue_spheres9d, interior_deep)");
+    if (cases.empty())
+        throw std::invalid_argument("--scene: none of the given names is a study scene "
+                                    "(cornell7d, blue_spheres9d, interior_deep)");
 
     // The scenes measured before (other shards): kept, and merged with this run's at the end.
     const std::string refPath = o.outDir + "/scene_references.csv", csvPath = o.outDir + "/scenes.csv",
@@ -165,8 +165,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 if (s.sampler == "random")
                     for (const auto& other : every) from.push_back(&other);
                 for (const SamplerSpec* f : from)
-                    if (const std::uint32_t c = nearestCount(
-                            f->sampler == "random" || f->sampler == "halton" ? bose : *f, plan.sampleDims, o.paperHighSpp))
+                    if (const std::uint32_t c = nearestCount(f->sampler == "random" || f->sampler == "halton" ? bose : *f,
+                                                             plan.sampleDims, o.paperHighSpp))
                         ladder.push_back(c);
             }
             std::sort(ladder.begin(), ladder.end());
@@ -206,8 +206,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             if (o.topUp)
                 throw std::invalid_argument("--scene-top-up: " + info.name + " cannot be topped up: " + why +
                                             "; run it without --scene-top-up");
-            if (o.mustJoin)
-                throw std::invalid_argument("--scene-join: " + info.name + " cannot join its kept record: " + why);
+            if (o.mustJoin) throw std::invalid_argument("--scene-join: " + info.name + " cannot join its kept record: " + why);
             std::fprintf(stderr, "note: %s starts over: %s\n", info.name.c_str(), why.c_str());
         };
         if ((o.topUp || o.mustJoin) && !kept) cannotJoin("it has no earlier record in " + refPath);
@@ -248,8 +247,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             // var(half) / 2, so relMSE(A, B) / 4 estimates the reference's own relative error. It is
             // subtracted from every measurement (E relMSE(I, R) = relMSE(I) + relMSE(R) for independent
             // I, R) and reported, so the reader can see how far below the smallest measurement it is.
-            std::fprintf(stderr, "[scenes] %s %ux%u, %uD: reference (Sobol, 2 x %u spp)...\n", info.name.c_str(),
-                         scene.width, scene.height, plan.usedDims, referenceSpp / 2);
+            std::fprintf(stderr, "[scenes] %s %ux%u, %uD: reference (Sobol, 2 x %u spp)...\n", info.name.c_str(), scene.width,
+                         scene.height, plan.usedDims, referenceSpp / 2);
             auto& refTracer = cache.get(refPattern);
             const Render a = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0xA5A5A5A5u + si);
             const Render b = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0x5A5A5A5Au + si);
@@ -272,7 +271,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 info.rarePixels = formatPixels(rarePixelsOf(a.image, b.image, reference, info.rareCount), info.width);
             oas::image::writePngPreview(imgDir + "/" + info.name + "_reference.png", reference);
             // Kept for later sampler shards of the scene (exact floats: the same relMSE for each).
-            oas::image::writeExr(refExr, reference, {{"oas.scene", info.name}, {"oas.reference_spp", std::to_string(referenceSpp)}});
+            oas::image::writeExr(refExr, reference,
+                                 {{"oas.scene", info.name}, {"oas.reference_spp", std::to_string(referenceSpp)}});
         }
 
         // Every (sampler, spp) of the scene is one point of a shared render-time budget
@@ -308,10 +308,9 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                     const std::uint32_t first = rows == &keptRare[p] ? 65536u : 0u;
                     for (std::uint32_t i = 0; i < rows->size(); ++i)
                         if ((*rows)[i].trial != first + i)
-                            throw std::runtime_error(csvPath + ": " + info.name + " " + samplers[points[p].sampler].label +
-                                                     "@" + std::to_string(points[p].spp) + ": trials are not " +
-                                                     std::to_string(first) + ", " + std::to_string(first + 1) +
-                                                     ", ... (a top-up continues them)");
+                            throw std::runtime_error(csvPath + ": " + info.name + " " + samplers[points[p].sampler].label + "@" +
+                                                     std::to_string(points[p].spp) + ": trials are not " + std::to_string(first) +
+                                                     ", " + std::to_string(first + 1) + ", ... (a top-up continues them)");
                 }
                 keptCounts[p] = std::uint32_t(keptImage[p].size());
             }
@@ -323,9 +322,9 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         if (o.costRunCosts && o.extraSecondsPerScene > 0) {
             const auto sceneCosts = costsOfScene(costsIn(o.outDir), info.name);
             if (sceneCosts.empty())
-                throw std::invalid_argument("--scene-render-cost cost-run: " + info.name + " has no cost run in " +
-                                            o.outDir + "/scene_costs.csv: run --parts scene-costs --scene " +
-                                            info.name + " first, or give --scene-extra-seconds 0");
+                throw std::invalid_argument("--scene-render-cost cost-run: " + info.name + " has no cost run in " + o.outDir +
+                                            "/scene_costs.csv: run --parts scene-costs --scene " + info.name +
+                                            " first, or give --scene-extra-seconds 0");
             for (const auto& pt : points) costRunCost.push_back(costRunSeconds(sceneCosts, samplers[pt.sampler].label, pt.spp));
         }
         // What budgetedMeans targets per render: the full image (without the rare pixels where
@@ -427,7 +426,9 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                 const bool restAbove = restE.se > o.relSeTarget * std::abs(e.mean);
                 std::fprintf(stderr, "    %s@%u: %zu rare renders, relMSE %.3g +- %.2g (%.0f%%%s, %.0f s so far)\n",
                              s.label.c_str(), pt.spp, batches.size() * kRareBatch, e.mean, e.se, 100.0 * e.relSe(),
-                             converged(e) ? "" : restAbove ? ", cap: the image renders' part" : ", cap",
+                             converged(e) ? ""
+                             : restAbove  ? ", cap: the image renders' part"
+                                          : ", cap",
                              std::chrono::duration<double>(Clock::now() - t0).count());
             }
         }
@@ -460,7 +461,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             oas::image::writePngPreview(imgDir + "/" + file, oas::image::falseColourError(it->second, reference));
             oas::image::writePngPreview(imgDir + "/" + info.name + "_" + slug(c.sampler) + ".png", it->second);
             freshEq.push_back({info.name, c.sampler, std::to_string(spp), fmtG(c.seconds[best]), fmtG(budget),
-                    fmtG(oas::image::compare(it->second, reference).relMse - info.refErr), file});
+                               fmtG(oas::image::compare(it->second, reference).relMse - info.refErr), file});
         }
         if (joined) {
             info = joinShardRecord(*kept, info);
@@ -484,7 +485,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         return std::find(joinedScenes.begin(), joinedScenes.end(), scene) != joinedScenes.end();
     };
     auto isFreshSampler = [&](const std::string& scene, const std::string& sampler) {
-        return std::any_of(all.begin(), all.end(), [&](const SceneMeasurement& m) { return m.scene == scene && m.sampler == sampler; });
+        return std::any_of(all.begin(), all.end(),
+                           [&](const SceneMeasurement& m) { return m.scene == scene && m.sampler == sampler; });
     };
     std::vector<SceneMeasurement> keptNow;  // without the rows of the scenes that start over
     for (const auto& m : keptMeasurements)
@@ -495,8 +497,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
     std::vector<std::vector<std::string>> eqRows;
     // A top-up renders no new trial-0 images, so its scenes keep their equal-time pictures.
     for (const auto& row : keptEq)
-        if (isMerged(row[0]) &&
-            (!isFresh(row[0]) || (isJoined(row[0]) && (o.topUp || !isFreshSampler(row[0], row[1])))))
+        if (isMerged(row[0]) && (!isFresh(row[0]) || (isJoined(row[0]) && (o.topUp || !isFreshSampler(row[0], row[1])))))
             eqRows.push_back(row);
     eqRows.insert(eqRows.end(), freshEq.begin(), freshEq.end());
     return writeSceneData(o.outDir, mergedRecords, mergedMeasurements, std::move(eqRows), samplers);

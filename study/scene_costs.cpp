@@ -16,8 +16,8 @@ namespace oas::study {
 
 const std::vector<std::string>& sceneCostColumns()
 {
-    static const std::vector<std::string> columns = {"scene", "sampler", "spp",    "seconds", "se",
-                                                     "rounds", "run_id", "machine", "device",  "date"};
+    static const std::vector<std::string> columns = {"scene",  "sampler", "spp",     "seconds", "se",
+                                                     "rounds", "run_id",  "machine", "device",  "date"};
     return columns;
 }
 
@@ -25,8 +25,8 @@ void writeSceneCosts(const std::string& path, const std::vector<SceneCost>& cost
 {
     CsvTable csv(sceneCostColumns());
     for (const auto& c : costs)
-        csv.add({c.scene, c.sampler, std::to_string(c.spp), fmtG(c.seconds), fmtG(c.se), std::to_string(c.rounds),
-                 c.runId, c.machine, c.device, c.date});
+        csv.add({c.scene, c.sampler, std::to_string(c.spp), fmtG(c.seconds), fmtG(c.se), std::to_string(c.rounds), c.runId,
+                 c.machine, c.device, c.date});
     csv.write(path);
 }
 
@@ -91,10 +91,11 @@ std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const s
     for (const auto& c : costs)
         if (c.scene == scene) {
             if (!out.empty() && c.runId != out.front().runId)
-                throw std::runtime_error("scene_costs.csv: scene " + scene + " has times from runs " +
-                                         out.front().runId + " and " + c.runId +
+                throw std::runtime_error("scene_costs.csv: scene " + scene + " has times from runs " + out.front().runId +
+                                         " and " + c.runId +
                                          ": times from different runs are not comparable; rerun the scene's cost "
-                                         "part (oas-study --parts scene-costs --scene " + scene + ")");
+                                         "part (oas-study --parts scene-costs --scene " +
+                                         scene + ")");
             out.push_back(c);
         }
     return out;
@@ -162,8 +163,8 @@ std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::v
             auto& tracer = cache.get(p.pattern);
             tracer.clear();
             const auto start = Clock::now();
-            oas::render::forEachBatch(record.width, record.height, p.spp, oas::render::samplesPerBatch(plan),
-                                      0x5eed0000u + round, [&](const oas::render::SampleBatch& b) { tracer.trace(b); });
+            oas::render::forEachBatch(record.width, record.height, p.spp, oas::render::samplesPerBatch(plan), 0x5eed0000u + round,
+                                      [&](const oas::render::SampleBatch& b) { tracer.trace(b); });
             p.times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
         }
         std::fprintf(stderr, "scene costs %s: round %u/%u in %.1f s\n", record.name.c_str(), round + 1, o.rounds,

@@ -19,7 +19,6 @@ namespace oas::study {
 
 // SceneCost (one point of a cost run) is declared in scene_study.hpp, whose section reads it.
 
-
 /// scene_costs.csv's columns: scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date.
 const std::vector<std::string>& sceneCostColumns();
 void writeSceneCosts(const std::string& path, const std::vector<SceneCost>& costs);

@@ -39,7 +39,7 @@ std::vector<SceneCost> costsIn(const std::string& outDir);
 /// then table order), then rereads the first two, so that scene_curves.csv and the returned section
 /// are built from what the files hold (as --parts none would build them), not from the run's memory.
 std::string writeSceneData(const std::string& outDir, const std::vector<SceneRecord>& records,
-                           const std::vector<SceneMeasurement>& measurements,
-                           std::vector<std::vector<std::string>> equalTimeRows, const std::vector<SamplerSpec>& samplers);
+                           const std::vector<SceneMeasurement>& measurements, std::vector<std::vector<std::string>> equalTimeRows,
+                           const std::vector<SamplerSpec>& samplers);
 
 }  // namespace oas::study::detail

@@ -66,8 +66,7 @@ double referenceErrorSe(const std::vector<double>& pixelErrors)
 double worstPixelsContribution(std::vector<double> e, double fraction)
 {
     if (e.empty()) return 0;
-    const std::size_t k =
-        std::min(e.size(), std::max<std::size_t>(1, std::size_t(std::ceil(fraction * double(e.size())))));
+    const std::size_t k = std::min(e.size(), std::max<std::size_t>(1, std::size_t(std::ceil(fraction * double(e.size())))));
     std::nth_element(e.begin(), e.begin() + (k - 1), e.end(), std::greater<double>());
     double top = 0;
     for (std::size_t i = 0; i < k; ++i) top += e[i];
@@ -77,8 +76,7 @@ double worstPixelsContribution(std::vector<double> e, double fraction)
 std::vector<std::uint32_t> rarePixelsOf(const oas::image::Image& a, const oas::image::Image& b,
                                         const oas::image::Image& reference, std::uint32_t k, double eps)
 {
-    if (a.width != reference.width || a.height != reference.height || b.width != reference.width ||
-        b.height != reference.height)
+    if (a.width != reference.width || a.height != reference.height || b.width != reference.width || b.height != reference.height)
         throw std::invalid_argument("rarePixelsOf: images differ in size");
     std::vector<double> d(reference.pixelCount());
     for (std::size_t p = 0; p < d.size(); ++p) {
@@ -120,8 +118,7 @@ std::vector<std::uint32_t> parsePixels(const std::string& text, std::uint32_t wi
         char* end = nullptr;
         const size_t colon = item.find(':');
         bool ok = colon != std::string::npos && colon > 0 && colon + 1 < item.size() &&
-                  std::isdigit(static_cast<unsigned char>(item[0])) &&
-                  std::isdigit(static_cast<unsigned char>(item[colon + 1]));
+                  std::isdigit(static_cast<unsigned char>(item[0])) && std::isdigit(static_cast<unsigned char>(item[colon + 1]));
         if (ok) {
             x = std::strtoul(item.c_str(), &end, 10);
             ok = end == item.c_str() + colon;
@@ -131,16 +128,16 @@ std::vector<std::uint32_t> parsePixels(const std::string& text, std::uint32_t wi
             ok = end == item.c_str() + item.size();
         }
         if (!ok || x >= width || y >= height)
-            throw std::invalid_argument("rare pixels: \"" + item + "\" is not x:y inside the " + std::to_string(width) +
-                                        "x" + std::to_string(height) + " image");
+            throw std::invalid_argument("rare pixels: \"" + item + "\" is not x:y inside the " + std::to_string(width) + "x" +
+                                        std::to_string(height) + " image");
         out.push_back(std::uint32_t(y * width + x));
     }
     return out;
 }
 
-double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render::DimensionPlan& plan,
-                          const oas::Pattern& pattern, const std::vector<std::uint32_t>& pixels, std::uint32_t spp,
-                          std::uint32_t seed, const oas::image::Image& reference, oas::render::Accumulation& scratch, double eps)
+double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render::DimensionPlan& plan, const oas::Pattern& pattern,
+                          const std::vector<std::uint32_t>& pixels, std::uint32_t spp, std::uint32_t seed,
+                          const oas::image::Image& reference, oas::render::Accumulation& scratch, double eps)
 {
     oas::image::checkLayout(reference, "rarePixelsShareCpu: reference");
     scratch = oas::render::Accumulation(reference.width, reference.height);

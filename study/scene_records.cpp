@@ -34,17 +34,41 @@ const std::vector<std::string> kEqualTimeColumns = {"scene", "sampler", "spp", "
 
 namespace {
 
-const std::vector<std::string> kMeasurementColumns = {"scene",          "sampler",      "pattern",          "spp",
-                                                      "trial",          "seconds",      "rel_mse",          "rel_mse_crop",
-                                                      "rel_mse_raw",    "rel_mse_crop_raw", "rel_mse_worst",
-                                                      "rel_mse_rare",   "rare_only"};
+const std::vector<std::string> kMeasurementColumns = {
+    "scene",        "sampler",     "pattern",          "spp",           "trial",        "seconds",  "rel_mse",
+    "rel_mse_crop", "rel_mse_raw", "rel_mse_crop_raw", "rel_mse_worst", "rel_mse_rare", "rare_only"};
 
-const std::vector<std::string> kRecordColumns = {
-    "scene",     "width",     "height",       "dims",        "reference_sampler", "reference_spp", "ref_rel_mse",
-    "ref_rel_mse_crop", "seconds", "crop_x", "crop_y",       "crop_w",      "crop_h",            "largest_spp",
-    "device",    "machine",   "date",         "command",     "mode",              "min_spp",       "max_spp",
-    "paper_spp", "min_renders", "max_renders", "rel_se_target", "extra_seconds", "run_seconds",
-    "rare_count", "rare_pixels", "ref_rel_mse_se", "ref_rel_mse_crop_se"};
+const std::vector<std::string> kRecordColumns = {"scene",
+                                                 "width",
+                                                 "height",
+                                                 "dims",
+                                                 "reference_sampler",
+                                                 "reference_spp",
+                                                 "ref_rel_mse",
+                                                 "ref_rel_mse_crop",
+                                                 "seconds",
+                                                 "crop_x",
+                                                 "crop_y",
+                                                 "crop_w",
+                                                 "crop_h",
+                                                 "largest_spp",
+                                                 "device",
+                                                 "machine",
+                                                 "date",
+                                                 "command",
+                                                 "mode",
+                                                 "min_spp",
+                                                 "max_spp",
+                                                 "paper_spp",
+                                                 "min_renders",
+                                                 "max_renders",
+                                                 "rel_se_target",
+                                                 "extra_seconds",
+                                                 "run_seconds",
+                                                 "rare_count",
+                                                 "rare_pixels",
+                                                 "ref_rel_mse_se",
+                                                 "ref_rel_mse_crop_se"};
 
 /// Whether the file has column `name` (columns added later are optional: older files lack them).
 bool hasColumn(const CsvRows& t, const std::string& name)
@@ -58,8 +82,7 @@ std::vector<T> mergeByKey(const std::vector<T>& kept, const std::vector<T>& fres
 {
     std::vector<T> all;
     for (const auto& k : kept)
-        if (std::none_of(fresh.begin(), fresh.end(), [&](const T& f) { return keyOf(f) == keyOf(k); }))
-            all.push_back(k);
+        if (std::none_of(fresh.begin(), fresh.end(), [&](const T& f) { return keyOf(f) == keyOf(k); })) all.push_back(k);
     all.insert(all.end(), fresh.begin(), fresh.end());
     // Scene order (studyScenes(), then first appearance); rows keep their order within a scene.
     std::vector<std::string> order;
@@ -114,16 +137,16 @@ size_t sceneRank(const std::string& name)
 
 void writeCurves(const std::string& path, const std::vector<SceneCurve>& curves)
 {
-    CsvTable curveCsv({"scene", "sampler", "spp", "seconds", "rel_mse", "rel_mse_crop", "n", "rel_mse_se",
-                       "rel_mse_crop_se", "capped", "rel_mse_without_worst", "rel_mse_without_worst_se",
-                       "rel_mse_worst", "rel_mse_worst_se", "rare_renders"});
+    CsvTable curveCsv({"scene", "sampler", "spp", "seconds", "rel_mse", "rel_mse_crop", "n", "rel_mse_se", "rel_mse_crop_se",
+                       "capped", "rel_mse_without_worst", "rel_mse_without_worst_se", "rel_mse_worst", "rel_mse_worst_se",
+                       "rare_renders"});
     for (const auto& c : curves)
         for (size_t i = 0; i < c.spp.size(); ++i)
-            curveCsv.add({c.scene, c.sampler, fmtG(c.spp[i]), fmtG(c.seconds[i]), fmtG(c.relMse[i]),
-                          fmtG(c.relMseCrop[i]), std::to_string(c.relMseE[i].n), fmtG(c.relMseE[i].se),
-                          fmtG(c.relMseCropE[i].se), c.relMseE[i].capped || c.relMseCropE[i].capped ? "1" : "0",
-                          fmtG(c.relMseRestE[i].mean), fmtG(c.relMseRestE[i].se), fmtG(c.worstE[i].mean),
-                          fmtG(c.worstE[i].se), std::to_string(c.rareRenders[i])});
+            curveCsv.add({c.scene, c.sampler, fmtG(c.spp[i]), fmtG(c.seconds[i]), fmtG(c.relMse[i]), fmtG(c.relMseCrop[i]),
+                          std::to_string(c.relMseE[i].n), fmtG(c.relMseE[i].se), fmtG(c.relMseCropE[i].se),
+                          c.relMseE[i].capped || c.relMseCropE[i].capped ? "1" : "0", fmtG(c.relMseRestE[i].mean),
+                          fmtG(c.relMseRestE[i].se), fmtG(c.worstE[i].mean), fmtG(c.worstE[i].se),
+                          std::to_string(c.rareRenders[i])});
     curveCsv.write(path);
 }
 
@@ -139,13 +162,36 @@ void writeSceneRecords(const std::string& path, const std::vector<SceneRecord>& 
 {
     CsvTable t(kRecordColumns);
     for (const auto& r : records)
-        t.add({r.name, std::to_string(r.width), std::to_string(r.height), std::to_string(r.dims), r.referenceSampler,
-               std::to_string(r.referenceSpp), fmtG(r.refErr, 9), fmtG(r.refErrCrop, 9), fmtG(r.refSeconds),
-               std::to_string(r.crop.x), std::to_string(r.crop.y), std::to_string(r.crop.w), std::to_string(r.crop.h),
-               std::to_string(r.largestSpp), r.device, r.machine, r.date, r.command, r.modeLabel,
-               std::to_string(r.minSpp), std::to_string(r.maxSpp), std::to_string(r.paperHighSpp),
-               std::to_string(r.minTrials), std::to_string(r.maxTrials), fmtG(r.relSeTarget), fmtG(r.extraSeconds),
-               fmtG(r.runSeconds), std::to_string(r.rareCount), r.rarePixels, fmtG(r.refErrSe, 9),
+        t.add({r.name,
+               std::to_string(r.width),
+               std::to_string(r.height),
+               std::to_string(r.dims),
+               r.referenceSampler,
+               std::to_string(r.referenceSpp),
+               fmtG(r.refErr, 9),
+               fmtG(r.refErrCrop, 9),
+               fmtG(r.refSeconds),
+               std::to_string(r.crop.x),
+               std::to_string(r.crop.y),
+               std::to_string(r.crop.w),
+               std::to_string(r.crop.h),
+               std::to_string(r.largestSpp),
+               r.device,
+               r.machine,
+               r.date,
+               r.command,
+               r.modeLabel,
+               std::to_string(r.minSpp),
+               std::to_string(r.maxSpp),
+               std::to_string(r.paperHighSpp),
+               std::to_string(r.minTrials),
+               std::to_string(r.maxTrials),
+               fmtG(r.relSeTarget),
+               fmtG(r.extraSeconds),
+               fmtG(r.runSeconds),
+               std::to_string(r.rareCount),
+               r.rarePixels,
+               fmtG(r.refErrSe, 9),
                fmtG(r.refErrCropSe, 9)});
     t.write(path);
 }
@@ -190,8 +236,8 @@ std::vector<SceneRecord> readSceneRecords(const std::string& path)
         r.runSeconds = num("run_seconds");
         if (hasColumn(t, "rare_count")) r.rareCount = cnt("rare_count");
         if (hasColumn(t, "rare_pixels")) r.rarePixels = text("rare_pixels");
-        if (r.name.empty() || r.width == 0 || r.height == 0 || r.crop.w == 0 || r.crop.h == 0 ||
-            r.crop.x + r.crop.w > r.width || r.crop.y + r.crop.h > r.height || !(r.relSeTarget > 0))
+        if (r.name.empty() || r.width == 0 || r.height == 0 || r.crop.w == 0 || r.crop.h == 0 || r.crop.x + r.crop.w > r.width ||
+            r.crop.y + r.crop.h > r.height || !(r.relSeTarget > 0))
             throw std::runtime_error(path + ": row " + std::to_string(i + 1) +
                                      ": the scene name, size, crop (inside the image) or s.e. target is invalid");
         try {
@@ -210,9 +256,9 @@ void writeSceneMeasurements(const std::string& path, const std::vector<SceneMeas
 {
     CsvTable csv(kMeasurementColumns);
     for (const auto& m : measurements)
-        csv.add({m.scene, m.sampler, m.pattern, std::to_string(m.spp), std::to_string(m.trial), fmtG(m.seconds),
-                 fmtG(m.relMse), fmtG(m.relMseCrop), fmtG(m.relMseRaw), fmtG(m.relMseCropRaw), fmtG(m.relMseWorst),
-                 fmtG(m.relMseRare), m.rareOnly ? "1" : "0"});
+        csv.add({m.scene, m.sampler, m.pattern, std::to_string(m.spp), std::to_string(m.trial), fmtG(m.seconds), fmtG(m.relMse),
+                 fmtG(m.relMseCrop), fmtG(m.relMseRaw), fmtG(m.relMseCropRaw), fmtG(m.relMseWorst), fmtG(m.relMseRare),
+                 m.rareOnly ? "1" : "0"});
     csv.write(path);
 }
 
@@ -239,8 +285,8 @@ std::vector<SceneMeasurement> readSceneMeasurements(const std::string& path)
         if (hasColumn(t, "rare_only")) {
             const std::uint32_t flag = csvCount(t, row, "rare_only", path, i);
             if (flag > 1)
-                throw std::runtime_error(path + ": row " + std::to_string(i + 1) + ", column \"rare_only\": " +
-                                         std::to_string(flag) + " is not 0 or 1");
+                throw std::runtime_error(path + ": row " + std::to_string(i + 1) +
+                                         ", column \"rare_only\": " + std::to_string(flag) + " is not 0 or 1");
             m.rareOnly = flag == 1;
         }
         if (m.spp == 0 || !(m.seconds >= 0))
@@ -286,7 +332,8 @@ bool sameSceneSettings(const SceneRecord& a, const SceneRecord& b, std::string* 
              differs("dims", std::to_string(a.dims), std::to_string(b.dims)) || differs("crop", crop(a.crop), crop(b.crop)) ||
              differs("reference", a.referenceSampler + "@" + std::to_string(a.referenceSpp),
                      b.referenceSampler + "@" + std::to_string(b.referenceSpp)) ||
-             differs("spp ladder", std::to_string(a.minSpp) + "-" + std::to_string(a.maxSpp) + "/" + std::to_string(a.paperHighSpp),
+             differs("spp ladder",
+                     std::to_string(a.minSpp) + "-" + std::to_string(a.maxSpp) + "/" + std::to_string(a.paperHighSpp),
                      std::to_string(b.minSpp) + "-" + std::to_string(b.maxSpp) + "/" + std::to_string(b.paperHighSpp)) ||
              differs("renders per point", std::to_string(a.minTrials) + "-" + std::to_string(a.maxTrials),
                      std::to_string(b.minTrials) + "-" + std::to_string(b.maxTrials)) ||
@@ -327,8 +374,8 @@ SceneRecord joinShardRecord(const SceneRecord& kept, const SceneRecord& fresh)
 }
 
 std::string detail::writeSceneData(const std::string& outDir, const std::vector<SceneRecord>& records,
-                           const std::vector<SceneMeasurement>& measurements,
-                           std::vector<std::vector<std::string>> equalTimeRows, const std::vector<SamplerSpec>& samplers)
+                                   const std::vector<SceneMeasurement>& measurements,
+                                   std::vector<std::vector<std::string>> equalTimeRows, const std::vector<SamplerSpec>& samplers)
 {
     const std::string refPath = outDir + "/scene_references.csv", csvPath = outDir + "/scenes.csv";
     // Scene order, then table order (a joined shard's rows would otherwise come last).
@@ -402,7 +449,11 @@ std::string mergeSceneShards(const std::string& outDir, const std::string& baseD
     }
     // Images: the base's (references), then each shard's (its equal-time pictures).
     fs::create_directories(outDir + "/scenes");
-    for (const auto& dir : [&] { auto all = shardDirs; all.insert(all.begin(), baseDir); return all; }())
+    for (const auto& dir : [&] {
+             auto all = shardDirs;
+             all.insert(all.begin(), baseDir);
+             return all;
+         }())
         if (fs::is_directory(dir + "/scenes"))
             for (const auto& entry : fs::directory_iterator(dir + "/scenes"))
                 fs::copy_file(entry.path(), outDir + "/scenes/" + entry.path().filename().string(),

@@ -21,9 +21,15 @@ namespace oas::study {
 namespace detail {
 namespace {
 
-bool isOa(const SamplerSpec& s) { return s.strength > 0; }
+bool isOa(const SamplerSpec& s)
+{
+    return s.strength > 0;
+}
 
-std::string sci(double v) { return std::isfinite(v) ? fmtG(v, 3) : "—"; }
+std::string sci(double v)
+{
+    return std::isfinite(v) ? fmtG(v, 3) : "—";
+}
 
 /// A reference relMSE with its s.e., or with the bound used where the run did not record one.
 std::string referenceCell(double value, double se)
@@ -46,8 +52,8 @@ std::string referenceRatios(const std::vector<SceneRecord>& infos)
     std::string out;
     for (const auto& info : infos) {
         if (!out.empty()) out += "; ";
-        out += info.name + " " + std::to_string(info.referenceSpp) + " spp = " +
-               fmtF(double(info.referenceSpp) / std::max(1u, info.largestSpp), 1) + "× its largest count";
+        out += info.name + " " + std::to_string(info.referenceSpp) +
+               " spp = " + fmtF(double(info.referenceSpp) / std::max(1u, info.largestSpp), 1) + "× its largest count";
     }
     return out;
 }
@@ -90,7 +96,8 @@ CapSummary capSummary(const SceneTables& tables)
         capCost << sep << info.name << " " << capped << " of " << total;
         sep = "; ";
         if (capped && seconds > 0)
-            capCost << ", about " << (seconds < 3600 ? fmtF(std::max(1.0, seconds / 60), 0) + " min" : fmtF(seconds / 3600, 1) + " h")
+            capCost << ", about "
+                    << (seconds < 3600 ? fmtF(std::max(1.0, seconds / 60), 0) + " min" : fmtF(seconds / 3600, 1) + " h")
                     << " more of renders on its device to finish them";
     }
     if (sep[0] == ';') capCost << "; s.e. ∝ 1/√n, a lower estimate where fireflies make the tails heavy)";
@@ -119,16 +126,17 @@ void writeMethod(const SceneTables& tables, std::ostream& md)
         allFull = allFull && info.modeLabel == "full mode" && missingSamplers(tables, info.name).empty();
         devices.insert(info.device);
     }
-    const bool allLavapipe = std::all_of(devices.begin(), devices.end(), [](const std::string& d) {
-        return d.find("llvmpipe") != std::string::npos;
-    });
+    const bool allLavapipe =
+        std::all_of(devices.begin(), devices.end(), [](const std::string& d) { return d.find("llvmpipe") != std::string::npos; });
     md << "## Scenes: relative MSE versus samples and versus time\n\n"
        << "- Runs: each scene's device, machine, date, command and settings are in the table below. Scenes can be "
           "measured in separate runs (`oas-study --parts scenes --scene NAME` replaces only that scene's rows in "
           "the data files and reassembles this section from them), so they may differ.\n"
-       << "- Mode: " << (allFull ? "full mode for every scene" : "**not every scene is from the full mode with every sampler** (table)")
+       << "- Mode: "
+       << (allFull ? "full mode for every scene" : "**not every scene is from the full mode with every sampler** (table)")
        << "; time is wall-clock time on the scene's device"
-       << (allLavapipe ? " (lavapipe, the CI machine's Vulkan, for every scene)" : " (not the same device for every scene: compare times within a scene only)")
+       << (allLavapipe ? " (lavapipe, the CI machine's Vulkan, for every scene)"
+                       : " (not the same device for every scene: compare times within a scene only)")
        << ".\n"
        << "- Error bars: every relMSE is the mean over n independent renders (each its own seed) ± its standard "
           "error s.e. = sd/√n (sd with n − 1). n is chosen per point: at least the scene's minimum number of "
@@ -170,7 +178,8 @@ void writeRuns(const SceneTables& tables, std::ostream& md)
     const auto& infos = tables.infos;
     const auto& samplers = tables.samplers;
     // How the scenes were run: one row per scene (shards may differ in settings, device and date).
-    md << "| scene | device | machine, date | command (mode) | image | spp | renders per point | extra render s | s.e. target | scene run time |\n"
+    md << "| scene | device | machine, date | command (mode) | image | spp | renders per point | extra render s | s.e. target | "
+          "scene run time |\n"
           "|---|---|---|---|---|---|---|---|---|---|\n";
     // A joined sampler shard's record lists its commands with " ; " between them.
     auto commandsCell = [](const std::string& commands) {
@@ -219,7 +228,8 @@ void writeRuns(const SceneTables& tables, std::ostream& md)
 void writeReferences(const SceneTables& tables, std::ostream& md)
 {
     const auto& infos = tables.infos;
-    md << "| scene | size | integrand dims | crop | reference spp | reference relMSE (full / crop) | smallest measured relMSE (full / crop) |\n"
+    md << "| scene | size | integrand dims | crop | reference spp | reference relMSE (full / crop) | smallest measured relMSE "
+          "(full / crop) |\n"
           "|---|---|---|---|---|---|---|\n";
     for (const auto& info : infos) {
         double minFull = 1e300, minCrop = 1e300;
@@ -227,11 +237,10 @@ void writeReferences(const SceneTables& tables, std::ostream& md)
             if (c.scene == info.name)
                 for (size_t i = 0; i < c.spp.size(); ++i)
                     minFull = std::min(minFull, c.relMse[i]), minCrop = std::min(minCrop, c.relMseCrop[i]);
-        md << "| " << info.name << " | " << info.width << "×" << info.height << " | " << info.dims << " | "
-           << info.crop.w << "×" << info.crop.h << " at (" << info.crop.x << ", " << info.crop.y << "): " << cropWhatOf(info.name)
-           << " | " << info.referenceSpp << " | " << referenceCell(info.refErr, info.refErrSe) << " / "
-           << referenceCell(info.refErrCrop, info.refErrCropSe) << " | " << sci(minFull) << " / " << sci(minCrop)
-           << " |\n";
+        md << "| " << info.name << " | " << info.width << "×" << info.height << " | " << info.dims << " | " << info.crop.w << "×"
+           << info.crop.h << " at (" << info.crop.x << ", " << info.crop.y << "): " << cropWhatOf(info.name) << " | "
+           << info.referenceSpp << " | " << referenceCell(info.refErr, info.refErrSe) << " / "
+           << referenceCell(info.refErrCrop, info.refErrCropSe) << " | " << sci(minFull) << " / " << sci(minCrop) << " |\n";
     }
     md << "\nThe smallest measured relMSE is the smallest per-point mean. The reference's s.e. comes from its "
           "halves' per-pixel differences (√((2/3) Σ e_p²) / 4P: each term taken as its mean times a χ²₁ variable, "
@@ -242,9 +251,8 @@ void writeReferences(const SceneTables& tables, std::ostream& md)
 
 // One row of the tables at a paper count: the sampler's estimate at ladder count n, against
 // Random at the same count and against CMJ2D-pad's estimate `cmjRef`.
-std::pair<Estimate, Estimate> countRow(const SceneTables& tables, std::ostream& md, const SceneRecord& info,
-                                       const SamplerSpec& s, const SceneCurve& c, double n, const SceneCurve* rnd,
-                                       const Estimate& cmjRef)
+std::pair<Estimate, Estimate> countRow(const SceneTables& tables, std::ostream& md, const SceneRecord& info, const SamplerSpec& s,
+                                       const SceneCurve& c, double n, const SceneCurve* rnd, const Estimate& cmjRef)
 {
     const Estimate e = estAt(c, n, 0), ec = estAt(c, n, 1);
     const Estimate r = tables.randomAt(rnd, n);
@@ -252,11 +260,10 @@ std::pair<Estimate, Estimate> countRow(const SceneTables& tables, std::ostream& 
     if (const SceneCurve* t = tables.timedCurveOf(info.name, s.label))
         for (size_t i = 0; i < t->spp.size(); ++i)
             if (t->spp[i] == n) secs = t->seconds[i];
-    md << "| " << info.name << " | " << s.label << " | " << n << " | " << fmtEstimate(e) << " | "
-       << fmtEstimate(ec) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
-       << (s.label == "Random" ? "—" : verdictCell(e, r)) << " | "
-       << fmtRatio(ratioTo(e, cmjRef, s.label == "CMJ2D-pad")) << " | "
-       << (s.label == "CMJ2D-pad" ? "—" : verdictCell(e, cmjRef)) << " | " << fmtF(secs * 1000, 0) << " |\n";
+    md << "| " << info.name << " | " << s.label << " | " << n << " | " << fmtEstimate(e) << " | " << fmtEstimate(ec) << " | "
+       << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | " << (s.label == "Random" ? "—" : verdictCell(e, r)) << " | "
+       << fmtRatio(ratioTo(e, cmjRef, s.label == "CMJ2D-pad")) << " | " << (s.label == "CMJ2D-pad" ? "—" : verdictCell(e, cmjRef))
+       << " | " << fmtF(secs * 1000, 0) << " |\n";
     return std::pair<Estimate, Estimate>{e, r};
 }
 
@@ -272,14 +279,22 @@ struct PaperValue {
     const char* paperRow = nullptr;  ///< the paper's label where it differs from ours
 };
 const PaperValue paper[] = {
-    {"cornell7d", "Random", 1.481e-3},      {"cornell7d", "Jittered2D-pad", 1.036e-3},
-    {"cornell7d", "CMJ2D-pad", 8.721e-4},   {"cornell7d", "ZeroTwo-pad", 8.299e-4},
-    {"cornell7d", "Halton", 7.819e-4},      {"cornell7d", "Sobol", 6.510e-4},
-    {"cornell7d", "BushMJ(t=2)", 7.864e-4, "OA (BushMJ t=2)"}, {"cornell7d", "BoseCMJ", 7.680e-4},
-    {"blue_spheres9d", "Random", 3.959e-3}, {"blue_spheres9d", "CMJ2D-pad", 1.557e-3},
-    {"blue_spheres9d", "Sobol", 1.117e-3},  {"blue_spheres9d", "BoseCMJ", 1.215e-3, "OA"},
-    {"interior_deep", "Random", 8.701e-4},  {"interior_deep", "CMJ2D-pad", 6.524e-4},
-    {"interior_deep", "Sobol", 5.994e-4},   {"interior_deep", "BoseCMJ", 6.024e-4, "OA"},
+    {"cornell7d", "Random", 1.481e-3},
+    {"cornell7d", "Jittered2D-pad", 1.036e-3},
+    {"cornell7d", "CMJ2D-pad", 8.721e-4},
+    {"cornell7d", "ZeroTwo-pad", 8.299e-4},
+    {"cornell7d", "Halton", 7.819e-4},
+    {"cornell7d", "Sobol", 6.510e-4},
+    {"cornell7d", "BushMJ(t=2)", 7.864e-4, "OA (BushMJ t=2)"},
+    {"cornell7d", "BoseCMJ", 7.680e-4},
+    {"blue_spheres9d", "Random", 3.959e-3},
+    {"blue_spheres9d", "CMJ2D-pad", 1.557e-3},
+    {"blue_spheres9d", "Sobol", 1.117e-3},
+    {"blue_spheres9d", "BoseCMJ", 1.215e-3, "OA"},
+    {"interior_deep", "Random", 8.701e-4},
+    {"interior_deep", "CMJ2D-pad", 6.524e-4},
+    {"interior_deep", "Sobol", 5.994e-4},
+    {"interior_deep", "BoseCMJ", 6.024e-4, "OA"},
 };
 
 double paperOf(const std::string& scene, const std::string& sampler)
@@ -302,7 +317,8 @@ void writeSideBySide(const SceneTables& tables, std::ostream& md)
     const auto& infos = tables.infos;
     const auto& samplers = tables.samplers;
     md << "\n#### Side by side with the paper\n\n"
-       << "The paper's relative MSE (Jarosz et al. 2019, as tabulated in a co-author's thesis; CornellBox 7D and BlueSpheres 9D at 121/128 spp, Barcelona 43D "
+       << "The paper's relative MSE (Jarosz et al. 2019, as tabulated in a co-author's thesis; CornellBox 7D and BlueSpheres 9D "
+          "at 121/128 spp, Barcelona 43D "
           "at 3969/4096 spp) as ratios to its Random and its "
           "CMJ2D-pad, next to ours (± s.e.) at about 128 spp (our Random at the same count as the sampler; our "
           "interior_deep stands in for Barcelona at 32× fewer samples). The paper gives no error bars. Its row "
@@ -323,9 +339,9 @@ void writeSideBySide(const SceneTables& tables, std::ostream& md)
             const Estimate r = tables.randomAt(rnd, n);
             auto ratio = [](double a, double b) { return std::isfinite(a / b) ? fmtF(a / b, 2) : std::string("—"); };
             md << "| " << info.name << " | " << s.label << " | " << paperRowOf(info.name, s.label) << " | "
-               << ratio(pv, paperOf(info.name, "Random")) << " | "
-               << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | " << ratio(pv, paperOf(info.name, "CMJ2D-pad")) << " | "
-               << fmtRatio(ratioTo(e, cmj128, s.label == "CMJ2D-pad")) << " |\n";
+               << ratio(pv, paperOf(info.name, "Random")) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
+               << ratio(pv, paperOf(info.name, "CMJ2D-pad")) << " | " << fmtRatio(ratioTo(e, cmj128, s.label == "CMJ2D-pad"))
+               << " |\n";
         }
     }
 }
@@ -368,12 +384,12 @@ void writeAtPaperCount(const SceneTables& tables, std::ostream& md)
             halfRnd.mean *= 0.5;
             halfRnd.se *= 0.5;
             const Verdict v1 = compare(bestOa, halfRnd), v2 = compare(bestOa, cmj128);
-            goal7d = v1 == Verdict::FirstLower && v2 == Verdict::FirstLower  ? "met"
+            goal7d = v1 == Verdict::FirstLower && v2 == Verdict::FirstLower     ? "met"
                      : v1 == Verdict::SecondLower || v2 == Verdict::SecondLower ? "not met"
-                                                                                  : "tie (not decided by the error bars)";
+                                                                                : "tie (not decided by the error bars)";
             goal7dText = "best OA at <= 128 spp (lowest mean) " + bestOaName + ": relMSE " + fmtEstimate(bestOa) + " = " +
-                         fmtRatio(ratioOf(bestOa, bestOaRnd)) + "× Random at the same spp (goal ≤ 0.50: " +
-                         verdictWord(v1) + " than 0.5× Random) and " + fmtRatio(ratioOf(bestOa, cmj128)) +
+                         fmtRatio(ratioOf(bestOa, bestOaRnd)) + "× Random at the same spp (goal ≤ 0.50: " + verdictWord(v1) +
+                         " than 0.5× Random) and " + fmtRatio(ratioOf(bestOa, cmj128)) +
                          "× CMJ2D-pad@128 (goal < 1: " + verdictWord(v2) + ")";
         }
     }
@@ -392,7 +408,8 @@ void writePaperHighCount(const SceneTables& tables, std::ostream& md)
     for (const auto& info : infos) paperHigh = std::max(paperHigh, info.paperHighSpp);
     if (paperHigh > 0) {
         md << "### At the paper's high count (about " << paperHigh << " spp): the 7D and 9D scenes\n\n"
-           << "Each sampler at its valid count nearest " << paperHigh << " (Bose 64² = 4096, the baselines "
+           << "Each sampler at its valid count nearest " << paperHigh
+           << " (Bose 64² = 4096, the baselines "
               "4096; the paper's Barcelona figures are at 3969/4096, its 7D and 9D tables at 121/128 only, so there "
               "is no paper number to set beside these). Ratios to Random at the same count and to CMJ2D-pad at the "
               "same ladder point, each with its verdict.\n\n"
@@ -424,8 +441,7 @@ void writePaperHighCount(const SceneTables& tables, std::ostream& md)
         if (!noCount.empty()) {
             md << "No row for ";
             const char* sep = "";
-            for (const auto& [label, largest] : noCount)
-                md << sep << label << " (measured up to " << largest << ")", sep = ", ";
+            for (const auto& [label, largest] : noCount) md << sep << label << " (measured up to " << largest << ")", sep = ", ";
             md << ": no valid count within a quarter octave of " << paperHigh
                << "; the rare-events table below has each sampler at its largest measured count.\n\n";
         }
@@ -439,7 +455,8 @@ void writeRareEvents(const SceneTables& tables, std::ostream& md)
     const auto& samplers = tables.samplers;
     // --- Rare events: the worst pixels ---------------------------------------------------------
     md << "### Rare events: how much of the error is in the worst pixels\n\n"
-       << "Per render, the worst " << fmtG(100 * kWorstPixelFraction) << "% of pixels by relative squared error "
+       << "Per render, the worst " << fmtG(100 * kWorstPixelFraction)
+       << "% of pixels by relative squared error "
           "(at least one pixel) and their contribution to the image's relMSE; \"without\" is the relMSE of the "
           "rest (the same mean over all pixels, the worst ones' terms left out), each a mean ± s.e. over the same "
           "renders. A large share means the error is a few rare paths (e.g. a light's corner hit by a small "
@@ -464,8 +481,8 @@ void writeRareEvents(const SceneTables& tables, std::ostream& md)
                    << (std::isfinite(share.mean) ? fmtF(100 * share.mean, 0) + "% ± " + fmtF(100 * share.se, 0) + "%"
                                                  : std::string("—"))
                    << " | " << fmtEstimate(rest) << " | " << fmtRatio(ratioTo(e, r, s.label == "Random")) << " | "
-                   << fmtRatio(ratioTo(rest, rr, s.label == "Random")) << " | " << (s.label == "Random" ? "—" : verdictCell(rest, rr))
-                   << " |\n";
+                   << fmtRatio(ratioTo(rest, rr, s.label == "Random")) << " | "
+                   << (s.label == "Random" ? "—" : verdictCell(rest, rr)) << " |\n";
             }
         }
     }

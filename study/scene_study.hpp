@@ -77,7 +77,7 @@ struct SceneStudyOptions {
     /// CPU (traceCpu: the same samples, seeds and estimator as the GPU's), in batches of
     /// kRareBatch, while they can still bring the sum's s.e. (curvesOf) below relSeTarget
     /// (moreRareRendersHelp), at most maxRareRenders.
-    std::int64_t rarePixels = -1;  ///< -1: each scene's SceneCase::rarePixels
+    std::int64_t rarePixels = -1;          ///< -1: each scene's SceneCase::rarePixels
     std::uint32_t maxRareRenders = 16384;  ///< per point
     /// A top-up (`--scene-top-up`): each chosen scene keeps its earlier rows and reference and adds
     /// renders where a point's s.e. is still above the target, with this run's budget and caps (at
@@ -119,16 +119,16 @@ struct SceneRecord {
     std::string device, machine, date, command, modeLabel;
     std::uint32_t minSpp = 0, maxSpp = 0, paperHighSpp = 0, minTrials = 0, maxTrials = 0;
     double relSeTarget = 0.1, extraSeconds = 0, runSeconds = 0;  ///< runSeconds: the scene's share of its run
-    std::uint32_t rareCount = 0;  ///< SceneStudyOptions::rarePixels (0: no rare-pixel split)
-    std::string rarePixels;       ///< the chosen pixels, "x:y x:y ..." (formatPixels)
+    std::uint32_t rareCount = 0;                                 ///< SceneStudyOptions::rarePixels (0: no rare-pixel split)
+    std::string rarePixels;                                      ///< the chosen pixels, "x:y x:y ..." (formatPixels)
 };
 
 /// One render's measurement.
 struct SceneMeasurement {
     std::string scene, sampler, pattern;
     std::uint32_t spp = 0, trial = 0;
-    double seconds = 0;           ///< wall-clock time of the render's dispatches (pipeline build excluded)
-    double relMse = 0, relMseCrop = 0;  ///< against the reference, minus the reference's own error
+    double seconds = 0;                       ///< wall-clock time of the render's dispatches (pipeline build excluded)
+    double relMse = 0, relMseCrop = 0;        ///< against the reference, minus the reference's own error
     double relMseRaw = 0, relMseCropRaw = 0;  ///< uncorrected
     /// The part of relMseRaw that comes from the render's worst pixels (the top 0.1% by their
     /// relative squared error, at least one pixel): relMse − relMseWorst is the rest of the image.
@@ -153,10 +153,9 @@ std::vector<std::uint32_t> rarePixelsOf(const oas::image::Image& a, const oas::i
 /// against `reference` (as pixelRelErrors), for the render of `spp` samples of `pattern` with
 /// render seed `seed`, traced on the CPU for just those pixels (traceCpu, one thread): the same
 /// number a full GPU render with that seed gives, up to float rounding. `scratch` is reused.
-double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render::DimensionPlan& plan,
-                          const oas::Pattern& pattern, const std::vector<std::uint32_t>& pixels, std::uint32_t spp,
-                          std::uint32_t seed, const oas::image::Image& reference, oas::render::Accumulation& scratch,
-                          double relEpsilon = 1e-2);
+double rarePixelsShareCpu(const oas::render::SceneData& data, const oas::render::DimensionPlan& plan, const oas::Pattern& pattern,
+                          const std::vector<std::uint32_t>& pixels, std::uint32_t spp, std::uint32_t seed,
+                          const oas::image::Image& reference, oas::render::Accumulation& scratch, double relEpsilon = 1e-2);
 /// Whether one more batch of rare-pixel renders can still help a point reach relSeTarget: not once
 /// the stratified sum rest + rare is there, and not while the image renders' part alone has an s.e.
 /// above the target × the sum (only more image renders help then) and the rare part's s.e. is
@@ -174,8 +173,7 @@ inline constexpr double kWorstPixelFraction = 0.001;
 
 /// Per-pixel relative squared error, the mean over R, G, B of (I − R)² / (R² + eps), as
 /// oas::image::compare sums it (its mean over pixels is compare's relMse).
-std::vector<double> pixelRelErrors(const oas::image::Image& image, const oas::image::Image& reference,
-                                   double relEpsilon = 1e-2);
+std::vector<double> pixelRelErrors(const oas::image::Image& image, const oas::image::Image& reference, double relEpsilon = 1e-2);
 /// The standard error of a reference's own relMSE estimate relMSE(A, B) / 4 from the per-pixel
 /// terms e_p (pixelRelErrors(A, B) over the pixels it averages): E relMSE(A, B) = (1/P) Σ E e_p,
 /// and for Gaussian pixel noise with R, G, B moving together e_p is its mean times a χ²₁ variable,
@@ -193,8 +191,8 @@ struct SceneCurve {
     std::string scene, sampler;
     std::vector<double> spp, seconds, relMse, relMseCrop;
     std::vector<Estimate> relMseE, relMseCropE;
-    std::vector<Estimate> relMseRestE;  ///< relMSE without each render's worst 0.1% of pixels
-    std::vector<Estimate> worstE;       ///< the worst pixels' contribution
+    std::vector<Estimate> relMseRestE;       ///< relMSE without each render's worst 0.1% of pixels
+    std::vector<Estimate> worstE;            ///< the worst pixels' contribution
     std::vector<std::uint32_t> rareRenders;  ///< renders of the rare pixels alone behind relMseE (0: no split)
 };
 
@@ -271,7 +269,6 @@ std::string mergeSceneShards(const std::string& outDir, const std::string& baseD
 /// scenes.csv, scene_references.csv and scene_equal_time.csv (the rows of scenes not run are kept:
 /// see mergeSceneRecords), rewrites scene_curves.csv from the merged data, and writes reference
 /// and equal-time images under outDir/scenes/. Returns sceneSection() of the merged data.
-std::string runSceneStudy(const SceneStudyOptions& options, const std::vector<SamplerSpec>& samplers,
-                          oas::vk::Context& context);
+std::string runSceneStudy(const SceneStudyOptions& options, const std::vector<SamplerSpec>& samplers, oas::vk::Context& context);
 
 }  // namespace oas::study

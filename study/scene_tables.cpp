@@ -21,9 +21,8 @@ SceneCurve withCostTimes(const SceneCurve& c, const std::vector<SceneCost>& rows
     t.scene = c.scene;
     t.sampler = c.sampler;
     for (size_t i = 0; i < c.spp.size(); ++i) {
-        const auto row = std::find_if(rows.begin(), rows.end(), [&](const SceneCost& r) {
-            return r.sampler == c.sampler && double(r.spp) == c.spp[i];
-        });
+        const auto row = std::find_if(rows.begin(), rows.end(),
+                                      [&](const SceneCost& r) { return r.sampler == c.sampler && double(r.spp) == c.spp[i]; });
         if (row == rows.end()) continue;
         t.spp.push_back(c.spp[i]);
         t.seconds.push_back(row->seconds);
@@ -81,8 +80,7 @@ Estimate SceneTables::randomAt(const SceneCurve* rnd, double spp, int which) con
     double target = 0.1;
     for (const auto& info : infos)
         if (info.name == rnd->scene) target = info.relSeTarget;
-    return interpEstimate(rnd->spp, which == 0 ? rnd->relMseE : which == 2 ? rnd->relMseRestE : rnd->relMseCropE, spp,
-                          target);
+    return interpEstimate(rnd->spp, which == 0 ? rnd->relMseE : which == 2 ? rnd->relMseRestE : rnd->relMseCropE, spp, target);
 }
 
 double nearest(const std::vector<double>& counts, double target)

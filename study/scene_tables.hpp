@@ -13,8 +13,7 @@
 namespace oas::study::detail {
 
 /// No estimate (mean and s.e. NaN, n = 0): a table shows "—".
-inline const Estimate kNoEstimate{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(),
-                                  0, false};
+inline const Estimate kNoEstimate{std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN(), 0, false};
 
 /// What every table of the section reads: the records, the samplers, their curves, and the same
 /// curves timed by each scene's cost run.

@@ -19,8 +19,7 @@ namespace {
 // Where a scene has no cost run, its time tables say so instead of using pooled times.
 std::string noCostRun(const SceneRecord& info)
 {
-    return "| " + info.name + " | *no cost run: `oas-study --parts scene-costs --scene " + info.name +
-           "` measures one* |";
+    return "| " + info.name + " | *no cost run: `oas-study --parts scene-costs --scene " + info.name + "` measures one* |";
 }
 
 /// Error at equal time, at three budgets per scene; returns the short answer.
@@ -53,9 +52,10 @@ std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
           "n is the smaller of the two interpolated points' n. Every sampler is a row: with 12 rows × 3 budgets "
           "per scene a table holds 36 comparisons with Sobol, so at 2 s.e. about one \"lower\" or \"higher\" per "
           "scene is expected by chance alone; the goal below rests on one comparison fixed in advance.\n\n"
-       << "| scene | sampler | relMSE @ T₁ | ÷ Sobol | vs Sobol | relMSE @ T₂ | ÷ Sobol | vs Sobol | relMSE @ T₃ | ÷ Sobol | vs Sobol |\n"
+       << "| scene | sampler | relMSE @ T₁ | ÷ Sobol | vs Sobol | relMSE @ T₂ | ÷ Sobol | vs Sobol | relMSE @ T₃ | ÷ Sobol | vs "
+          "Sobol |\n"
           "|---|---|---|---|---|---|---|---|---|---|---|\n";
-    std::ostringstream answer;                // the short answer at the top of the section
+    std::ostringstream answer;  // the short answer at the top of the section
     for (const auto& info : infos) {
         const SceneCurve* sob = tables.timedCurveOf(info.name, "Sobol");
         if (!sob) {
@@ -136,14 +136,16 @@ std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
                     if (std::abs(std::log(c->seconds[i] / budgets[b])) < gap)
                         gap = std::abs(std::log(c->seconds[i] / budgets[b])), bestSpp = c->spp[i];
             }
-            answer << "| " << info.name << " (" << info.dims << "D) | " << budgetName[b] << " = " << fmtF(budgets[b], 2)
-                   << " s" << (b == 0 ? " (Sobol's 128 spp)" : b == 2 ? " (≈ 4096 spp)" : "")
+            answer << "| " << info.name << " (" << info.dims << "D) | " << budgetName[b] << " = " << fmtF(budgets[b], 2) << " s"
+                   << (b == 0   ? " (Sobol's 128 spp)"
+                       : b == 2 ? " (≈ 4096 spp)"
+                                : "")
                    << " | " << bestLabel << " at ≈ " << fmtF(bestSpp, 0) << " spp"
                    << (separated ? "" : " (tie with " + ranking[b][1].second + ")") << " | "
                    << fmtRatio(ratioTo(best, sobAt[b], bestLabel == "Sobol")) << " | "
                    << fmtRatio(ratioTo(best, rndAt, bestLabel == "Random")) << " | "
-                   << (std::isfinite(goalAt[b].mean) ? fmtRatio(ratioOf(goalAt[b], sobAt[b])) : std::string("—"))
-                   << " | " << run.device << ", " << run.machine << ", " << run.date << " |\n";
+                   << (std::isfinite(goalAt[b].mean) ? fmtRatio(ratioOf(goalAt[b], sobAt[b])) : std::string("—")) << " | "
+                   << run.device << ", " << run.machine << ", " << run.date << " |\n";
         }
     }
     // Goal: on at least two of three scenes the chooser's OA is at or below Sobol at every budget.
@@ -168,17 +170,20 @@ std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
             "reached, T₃ = the longest every sampler with a count ≥ 3969 reached, i.e. the 4096-spp budget; seconds "
             "from the scene's one cost run on the device "
             "and machine named): the sampler with the lowest mean relMSE at that time, its error ÷ Owen-scrambled "
-            "Sobol's and ÷ Random's (± s.e.; below 1: better), and " << goalOa
+            "Sobol's and ÷ Random's (± s.e.; below 1: better), and "
+         << goalOa
          << " (the chooser's OA) ÷ Sobol. \"tie with\" where the runner-up is within twice the combined s.e. The "
             "tables below give every sampler, the counts, n, the crops and the costs.\n\n"
-            "| scene | budget | lowest error | ÷ Sobol | ÷ Random | " << goalOa << " ÷ Sobol | timed on |\n"
+            "| scene | budget | lowest error | ÷ Sobol | ÷ Random | "
+         << goalOa
+         << " ÷ Sobol | timed on |\n"
             "|---|---|---|---|---|---|---|\n"
          << answer.str() << "\n";
     md << "\n**Goal (at equal time, " << goalOa << " below Owen-scrambled Sobol on at least two of three scenes at "
        << "every budget): " << goalTime << "** — " << goalOa << " lower / tie / higher than Sobol:";
     for (int b = 0; b < kBudgets; ++b)
-        md << (b ? "; " : " ") << scenesOa[b][0] << " / " << scenesOa[b][1] << " / " << scenesOa[b][2] << " of "
-           << infos.size() << " scenes at " << budgetName[b];
+        md << (b ? "; " : " ") << scenesOa[b][0] << " / " << scenesOa[b][1] << " / " << scenesOa[b][2] << " of " << infos.size()
+           << " scenes at " << budgetName[b];
     md << ". The table holds " << comparisons << " comparisons with Sobol in all.\n\n";
     return head.str();
 }
@@ -222,8 +227,8 @@ void writeTimeToTarget(const SceneTables& tables, std::ostream& md)
                 Estimate ms = x.x;
                 ms.mean *= 1000;
                 ms.se *= 1000;
-                md << " | " << (x.crossing.atFirst ? "≤ " + fmtF(ms.mean, 0) + " (n=" + std::to_string(ms.n) + ")"
-                                                   : fmtEstimate(ms, 3))
+                md << " | "
+                   << (x.crossing.atFirst ? "≤ " + fmtF(ms.mean, 0) + " (n=" + std::to_string(ms.n) + ")" : fmtEstimate(ms, 3))
                    << " | " << fmtRatio(ratioTo(x.x, rndTime[b].x, s.label == "Random")) << " | "
                    << (s.label == "Random" || x.crossing.atFirst ? "—" : verdictCell(x.x, rndTime[b].x));
             }
@@ -249,7 +254,8 @@ void writeSamplerCost(const SceneTables& tables, std::ostream& md)
     md << "\n";
     std::map<std::string, double> perSampleRandom;
     for (const auto& info : infos)
-        if (const SceneCurve* r = tables.timedCurveOf(info.name, "Random")) perSampleRandom[info.name] = fitLine(r->spp, r->seconds).slope;
+        if (const SceneCurve* r = tables.timedCurveOf(info.name, "Random"))
+            perSampleRandom[info.name] = fitLine(r->spp, r->seconds).slope;
     for (const auto& s : samplers) {
         md << "| " << s.label;
         for (const auto& info : infos) {

@@ -14,8 +14,8 @@
 
 namespace oas::study {
 
-Spectrum powerSpectrum(const oas::Pattern& pattern, std::uint32_t dimA, std::uint32_t dimB,
-                       std::uint32_t randomizations, int radius, std::uint32_t userSeed, unsigned threads)
+Spectrum powerSpectrum(const oas::Pattern& pattern, std::uint32_t dimA, std::uint32_t dimB, std::uint32_t randomizations,
+                       int radius, std::uint32_t userSeed, unsigned threads)
 {
     if (radius < 0) throw std::invalid_argument("powerSpectrum: radius " + std::to_string(radius) + " < 0");
     if (randomizations == 0) throw std::invalid_argument("powerSpectrum: randomizations must be >= 1");
@@ -94,8 +94,8 @@ std::vector<double> radialProfile(const Spectrum& s)
 std::vector<std::pair<std::string, std::uint32_t>> projectionSamplers()
 {
     // Counts near 128 that each construction makes exactly (Bose/Bush: q^2 = 121; CMJND t=4: 3^4).
-    return {{"BoseCMJ", 121},    {"BoseMJ", 121}, {"BushMJ(t=2)", 121}, {"BoseBushCMJ", 128}, {"CMJND(t=4)", 81},
-            {"Random", 128},     {"CMJ2D-pad", 128}, {"Halton", 128},   {"Sobol", 128}};
+    return {{"BoseCMJ", 121}, {"BoseMJ", 121},    {"BushMJ(t=2)", 121}, {"BoseBushCMJ", 128}, {"CMJND(t=4)", 81},
+            {"Random", 128},  {"CMJ2D-pad", 128}, {"Halton", 128},      {"Sobol", 128}};
 }
 
 std::vector<ProjectionPair> projectionPairs(const SamplerSpec& spec, const oas::Pattern& pattern)
@@ -111,8 +111,7 @@ std::vector<ProjectionPair> projectionPairs(const SamplerSpec& spec, const oas::
     const std::pair<std::uint32_t, std::uint32_t> candidates[] = {{0, 1}, {0, 2}, {1, 5}, {0, block}};
     std::vector<ProjectionPair> out;
     for (auto [a, b] : candidates) {
-        if (std::any_of(out.begin(), out.end(), [&](const ProjectionPair& p) { return p.a == a && p.b == b; }))
-            continue;
+        if (std::any_of(out.begin(), out.end(), [&](const ProjectionPair& p) { return p.a == a && p.b == b; })) continue;
         // Built by appending: GCC 12 warns (-Wrestrict, a false positive) on "literal" + string.
         std::string name = (a == 0 && b == block) ? std::string("cross-block (") : std::string("(");
         name.append(std::to_string(a)).append(",").append(std::to_string(b)).append(")");
@@ -121,10 +120,13 @@ std::vector<ProjectionPair> projectionPairs(const SamplerSpec& spec, const oas::
     return out;
 }
 
-std::vector<std::string> spectrumColumns() { return {"sampler", "pattern", "N", "pair", "kx", "ky", "power"}; }
+std::vector<std::string> spectrumColumns()
+{
+    return {"sampler", "pattern", "N", "pair", "kx", "ky", "power"};
+}
 
-void appendSpectrumRows(CsvTable& table, const std::string& sampler, const oas::Pattern& pattern,
-                        const ProjectionPair& pair, const Spectrum& s)
+void appendSpectrumRows(CsvTable& table, const std::string& sampler, const oas::Pattern& pattern, const ProjectionPair& pair,
+                        const Spectrum& s)
 {
     const std::string desc = oas::describe(pattern), n = std::to_string(pattern.N);
     for (int ky = -s.radius; ky <= s.radius; ++ky)

@@ -33,8 +33,8 @@ struct Spectrum {
 /// uniform points have expectation exactly 1 at every k != 0. Double precision; `threads` workers
 /// over randomizations (0: all hardware threads). The result does not depend on `threads`.
 /// Throws std::invalid_argument for radius < 0, randomizations == 0 or an empty pattern.
-Spectrum powerSpectrum(const oas::Pattern& pattern, std::uint32_t dimA, std::uint32_t dimB,
-                       std::uint32_t randomizations, int radius, std::uint32_t userSeed, unsigned threads);
+Spectrum powerSpectrum(const oas::Pattern& pattern, std::uint32_t dimA, std::uint32_t dimB, std::uint32_t randomizations,
+                       int radius, std::uint32_t userSeed, unsigned threads);
 
 /// Mean power over the frequencies k != 0 with kLow <= |k| < kHigh (Euclidean |k|); 0 if none.
 double radialMean(const Spectrum& s, double kLow, double kHigh);
@@ -66,8 +66,8 @@ std::vector<ProjectionPair> projectionPairs(const SamplerSpec& spec, const oas::
 std::vector<std::string> spectrumColumns();
 /// Appends one row per frequency of `s` (ky outer, kx inner, as stored) to `table`, which must
 /// have spectrumColumns(). `pattern` is written as oas::describe(pattern).
-void appendSpectrumRows(CsvTable& table, const std::string& sampler, const oas::Pattern& pattern,
-                        const ProjectionPair& pair, const Spectrum& s);
+void appendSpectrumRows(CsvTable& table, const std::string& sampler, const oas::Pattern& pattern, const ProjectionPair& pair,
+                        const Spectrum& s);
 
 /// Spectra of every projectionPairs() pair of every projectionSamplers() sampler, `randomizations`
 /// each (user seed kProjectionSeed), written to outDir/spectra.csv (outDir is created). A sampler

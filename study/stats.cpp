@@ -13,9 +13,9 @@ namespace oas::study {
 
 double tQuantile975(int df)
 {
-    static const double table[31] = {0,      12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
-                                     2.201,  2.179,  2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080,
-                                     2.074,  2.069,  2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
+    static const double table[31] = {0,     12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
+                                     2.201, 2.179,  2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080,
+                                     2.074, 2.069,  2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
     if (df < 1) return std::nan("");
     if (df <= 30) return table[df];
     // Interpolate linearly in 1/df between tabulated points.
@@ -157,17 +157,24 @@ CsvRows parseCsv(const std::string& text, const std::string& file)
     for (size_t i = 0; i < text.size(); ++i) {
         const char c = text[i];
         if (quoted) {
-            if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') cell += '"', ++i;
-            else if (c == '"') quoted = false;
+            if (c == '"' && i + 1 < text.size() && text[i + 1] == '"')
+                cell += '"', ++i;
+            else if (c == '"')
+                quoted = false;
             else {
                 if (c == '\n') ++line;
                 cell += c;
             }
-        } else if (c == '"') quoted = any = true;
-        else if (c == ',') row.push_back(cell), cell.clear(), any = true;
-        else if (c == '\r') continue;
-        else if (c == '\n') ++line, endRow();
-        else cell += c, any = true;
+        } else if (c == '"')
+            quoted = any = true;
+        else if (c == ',')
+            row.push_back(cell), cell.clear(), any = true;
+        else if (c == '\r')
+            continue;
+        else if (c == '\n')
+            ++line, endRow();
+        else
+            cell += c, any = true;
     }
     if (quoted) throw std::runtime_error(file + ":" + std::to_string(rowLine) + ": unterminated quoted cell");
     if (any || !cell.empty() || !row.empty()) endRow();
@@ -297,9 +304,12 @@ Verdict compare(const Estimate& a, const Estimate& b)
 std::string verdictWord(Verdict v)
 {
     switch (v) {
-    case Verdict::FirstLower: return "lower";
-    case Verdict::SecondLower: return "higher";
-    default: return "tie";
+    case Verdict::FirstLower:
+        return "lower";
+    case Verdict::SecondLower:
+        return "higher";
+    default:
+        return "tie";
     }
 }
 
@@ -361,9 +371,10 @@ struct DrawnPoint {
 
 }  // namespace
 
-std::vector<std::vector<AdaptiveResult>> budgetedMeans(
-    std::size_t points, const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
-    std::size_t targeted, const AdaptiveOptions& o, double budget, const std::vector<std::uint32_t>& keptDraws)
+std::vector<std::vector<AdaptiveResult>> budgetedMeans(std::size_t points,
+                                                       const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
+                                                       std::size_t targeted, const AdaptiveOptions& o, double budget,
+                                                       const std::vector<std::uint32_t>& keptDraws)
 {
     const std::uint32_t nMax = std::max<std::uint32_t>(1, o.nMax), nMin = std::clamp<std::uint32_t>(o.nMin, 1, nMax);
     if (!keptDraws.empty() && keptDraws.size() != points)
@@ -403,12 +414,15 @@ std::vector<std::vector<AdaptiveResult>> budgetedMeans(
 
 // One point with an unlimited budget is exactly the per-point loop: nMin draws, then more while
 // above the target and below nMax.
-std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw,
-                                          std::size_t targeted, const AdaptiveOptions& o)
+std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw, std::size_t targeted,
+                                          const AdaptiveOptions& o)
 {
     return budgetedMeans(
-               1, [&](std::size_t, std::uint32_t i) { return CostedDraw{draw(i), 1.0}; }, targeted, o,
-               std::numeric_limits<double>::infinity())
+               1,
+               [&](std::size_t, std::uint32_t i) {
+                   return CostedDraw{draw(i), 1.0};
+               },
+               targeted, o, std::numeric_limits<double>::infinity())
         .front();
 }
 
@@ -487,7 +501,7 @@ std::string fmtRatio(const Estimate& r, int decimals)
 /// Cell `name` of `row` as a number: the whole cell must parse (strtod), else the error names the
 /// file, the data row and the column.
 double csvNumber(const CsvRows& t, const std::vector<std::string>& row, const std::string& name, const std::string& file,
-              size_t rowIndex)
+                 size_t rowIndex)
 {
     const std::string& cell = row[t.column(name, file)];
     char* end = nullptr;
@@ -498,13 +512,13 @@ double csvNumber(const CsvRows& t, const std::vector<std::string>& row, const st
     return v;
 }
 
-std::uint32_t csvCount(const CsvRows& t, const std::vector<std::string>& row, const std::string& name,
-                    const std::string& file, size_t rowIndex)
+std::uint32_t csvCount(const CsvRows& t, const std::vector<std::string>& row, const std::string& name, const std::string& file,
+                       size_t rowIndex)
 {
     const double v = csvNumber(t, row, name, file, rowIndex);
     if (!(v >= 0 && v <= 4294967295.0) || v != std::floor(v))
-        throw std::runtime_error(file + ": row " + std::to_string(rowIndex + 1) + ", column \"" + name + "\": " +
-                                 fmtG(v) + " is not a count in [0, 2^32 - 1]");
+        throw std::runtime_error(file + ": row " + std::to_string(rowIndex + 1) + ", column \"" + name + "\": " + fmtG(v) +
+                                 " is not a count in [0, 2^32 - 1]");
     return std::uint32_t(v);
 }
 

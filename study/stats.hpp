@@ -14,7 +14,7 @@ double tQuantile975(int df);
 
 struct SlopeFit {
     double slope = 0, intercept = 0;
-    double stderr_ = 0;       ///< standard error of the slope
+    double stderr_ = 0;            ///< standard error of the slope
     double ciLow = 0, ciHigh = 0;  ///< 95% confidence interval (t, n - 2 degrees of freedom)
     int n = 0;
     double r2 = 0;
@@ -35,8 +35,8 @@ double interpLogLog(const std::vector<double>& x, const std::vector<double>& y, 
 /// line through (x, y) (x ascending) reaches y = target ("time to reach a target error").
 struct Crossing {
     double x = 0;
-    bool found = false;       ///< false: the curve never reaches target within the measured range
-    bool atFirst = false;     ///< y.front() <= target already: x = x.front() is an upper bound
+    bool found = false;    ///< false: the curve never reaches target within the measured range
+    bool atFirst = false;  ///< y.front() <= target already: x = x.front() is an upper bound
 };
 Crossing firstCrossing(const std::vector<double>& x, const std::vector<double>& y, double target);
 
@@ -90,8 +90,8 @@ AdaptiveResult adaptiveMean(const std::function<double(std::uint32_t)>& draw, co
 /// keeps drawing while any of the first `targeted` quantities misses the target (the others are
 /// carried along, e.g. the worst pixels' share); returns one result per quantity, all with the
 /// same n. Every draw must return the same number of values (>= targeted).
-std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw,
-                                          std::size_t targeted, const AdaptiveOptions& options);
+std::vector<AdaptiveResult> adaptiveMeans(const std::function<std::vector<double>(std::uint32_t)>& draw, std::size_t targeted,
+                                          const AdaptiveOptions& options);
 
 /// One draw of a budgeted point: its values and what it cost (e.g. render seconds).
 struct CostedDraw {
@@ -109,10 +109,10 @@ struct CostedDraw {
 /// `keptDraws` (empty, or one count per point) continues an earlier run: point k first takes
 /// max(nMin, keptDraws[k]) draws, none counted against the budget (the caller returns the earlier
 /// run's values for i < keptDraws[k]), so that the budget buys only new draws.
-std::vector<std::vector<AdaptiveResult>> budgetedMeans(
-    std::size_t points, const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
-    std::size_t targeted, const AdaptiveOptions& options, double budget,
-    const std::vector<std::uint32_t>& keptDraws = {});
+std::vector<std::vector<AdaptiveResult>> budgetedMeans(std::size_t points,
+                                                       const std::function<CostedDraw(std::size_t point, std::uint32_t i)>& draw,
+                                                       std::size_t targeted, const AdaptiveOptions& options, double budget,
+                                                       const std::vector<std::uint32_t>& keptDraws = {});
 
 /// Piecewise log-log interpolation (as interpLogLog) of estimates: the mean is interpLogLog's, the
 /// s.e. by the delta method on log y = (1 − u) log y_i + u log y_{i+1} for independent points:
@@ -121,8 +121,7 @@ std::vector<std::vector<AdaptiveResult>> budgetedMeans(
 /// above relSeTarget × mean (a value read between a capped point and a converged one can have
 /// the smaller s.e.: marking it "cap" beside an s.e. under the target would contradict the rule).
 /// Timing noise in x is not included.
-Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate>& y, double at,
-                        double relSeTarget = 0.1);
+Estimate interpEstimate(const std::vector<double>& x, const std::vector<Estimate>& y, double at, double relSeTarget = 0.1);
 
 /// Where a curve of estimates first comes down to a target estimate (firstCrossing on the means),
 /// with a delta-method s.e. of the crossing time: on the crossed segment log y = a + b log x, so
@@ -178,11 +177,11 @@ CsvRows readCsv(const std::string& path);
 
 /// Cell `name` of data row `rowIndex` of `t` (read from `file`) as a number: the whole cell must
 /// parse (strtod), else std::runtime_error names the file, the row and the column.
-double csvNumber(const CsvRows& t, const std::vector<std::string>& row, const std::string& name,
-                 const std::string& file, size_t rowIndex);
+double csvNumber(const CsvRows& t, const std::vector<std::string>& row, const std::string& name, const std::string& file,
+                 size_t rowIndex);
 /// csvNumber, which must be a whole number in [0, 2^32 - 1].
-std::uint32_t csvCount(const CsvRows& t, const std::vector<std::string>& row, const std::string& name,
-                       const std::string& file, size_t rowIndex);
+std::uint32_t csvCount(const CsvRows& t, const std::vector<std::string>& row, const std::string& name, const std::string& file,
+                       size_t rowIndex);
 
 /// "%.*g" formatting (round-trippable with digits = 17).
 std::string fmtG(double v, int digits = 6);

@@ -17,23 +17,27 @@
 namespace {
 
 using oas::scene::Aabb;
+using oas::scene::buildBvh;
 using oas::scene::Bvh;
 using oas::scene::BvhNode;
-using oas::scene::buildBvh;
 using oas::scene::traverse;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-Aabb box(glm::vec3 lo, glm::vec3 hi) { return Aabb{lo, hi}; }
+Aabb box(glm::vec3 lo, glm::vec3 hi)
+{
+    return Aabb{lo, hi};
+}
 
-bool sameBox(const Aabb& a, const Aabb& b) {
+bool sameBox(const Aabb& a, const Aabb& b)
+{
     if (a.empty() && b.empty()) return true;
     return a.lo == b.lo && a.hi == b.hi;
 }
 
 // Checks every structural property the builder promises; returns the number of leaves.
-std::size_t checkInvariants(const Bvh& bvh, const std::vector<Aabb>& prims,
-                            std::uint32_t maxLeafSize) {
+std::size_t checkInvariants(const Bvh& bvh, const std::vector<Aabb>& prims, std::uint32_t maxLeafSize)
+{
     const std::size_t n = prims.size();
     maxLeafSize = std::max<std::uint32_t>(maxLeafSize, 1);
     EXPECT_FALSE(bvh.nodes.empty());
@@ -112,7 +116,8 @@ std::size_t checkInvariants(const Bvh& bvh, const std::vector<Aabb>& prims,
 }
 
 // Primitive = its own box; uses the same slab test as the traversal, so hits are consistent.
-bool hitBox(const Aabb& b, const glm::vec3& o, const glm::vec3& invDir, float tMax, float& t) {
+bool hitBox(const Aabb& b, const glm::vec3& o, const glm::vec3& invDir, float tMax, float& t)
+{
     BvhNode nd{};
     for (int a = 0; a < 3; ++a) {
         nd.lo[a] = b.lo[a];
@@ -126,7 +131,8 @@ struct Sphere {
     float r;
 };
 
-bool hitSphere(const Sphere& s, const glm::vec3& o, const glm::vec3& d, float tMax, float& t) {
+bool hitSphere(const Sphere& s, const glm::vec3& o, const glm::vec3& d, float tMax, float& t)
+{
     const glm::vec3 oc = o - s.c;
     const float a = glm::dot(d, d), b = glm::dot(oc, d), c = glm::dot(oc, oc) - s.r * s.r;
     const float disc = b * b - a * c;
@@ -145,15 +151,19 @@ struct Ray {
 };
 
 // Random rays from around [-1,1]^3 (some inside), some with zero (and -0) direction components.
-std::vector<Ray> randomRays(std::mt19937& rng, int count, float extent = 1.5f) {
+std::vector<Ray> randomRays(std::mt19937& rng, int count, float extent = 1.5f)
+{
     std::uniform_real_distribution<float> u(-extent, extent), n(-1.f, 1.f), u01(0.f, 1.f);
     std::vector<Ray> rays;
     for (int i = 0; i < count; ++i) {
         Ray r{{u(rng), u(rng), u(rng)}, {n(rng), n(rng), n(rng)}, kInf};
         const float kind = u01(rng);
-        if (kind < 0.1f) r.d[i % 3] = 0.f;
-        else if (kind < 0.15f) r.d[i % 3] = -0.f;
-        else if (kind < 0.2f) r.d[i % 3] = r.d[(i + 1) % 3] = 0.f;
+        if (kind < 0.1f)
+            r.d[i % 3] = 0.f;
+        else if (kind < 0.15f)
+            r.d[i % 3] = -0.f;
+        else if (kind < 0.2f)
+            r.d[i % 3] = r.d[(i + 1) % 3] = 0.f;
         if (r.d == glm::vec3(0.f)) r.d.x = 1.f;
         if (u01(rng) < 0.3f) r.tMax = 3.f * u01(rng);
         rays.push_back(r);
@@ -161,7 +171,8 @@ std::vector<Ray> randomRays(std::mt19937& rng, int count, float extent = 1.5f) {
     return rays;
 }
 
-std::vector<Aabb> randomBoxes(std::mt19937& rng, int count, float minSize, float maxSize) {
+std::vector<Aabb> randomBoxes(std::mt19937& rng, int count, float minSize, float maxSize)
+{
     std::uniform_real_distribution<float> pos(-1.f, 1.f), size(minSize, maxSize);
     std::vector<Aabb> boxes;
     for (int i = 0; i < count; ++i) {
@@ -177,7 +188,8 @@ struct Hit {
     float t = kInf;
 };
 
-Hit closestBoxBvh(const Bvh& bvh, const std::vector<Aabb>& prims, const Ray& r) {
+Hit closestBoxBvh(const Bvh& bvh, const std::vector<Aabb>& prims, const Ray& r)
+{
     const glm::vec3 inv = oas::scene::safeInverse(r.d);
     Hit h;
     traverse(bvh, r.o, r.d, r.tMax, [&](std::uint32_t p, float& tMax) {
@@ -190,7 +202,8 @@ Hit closestBoxBvh(const Bvh& bvh, const std::vector<Aabb>& prims, const Ray& r) 
     return h;
 }
 
-Hit closestBoxBrute(const std::vector<Aabb>& prims, const Ray& r) {
+Hit closestBoxBrute(const std::vector<Aabb>& prims, const Ray& r)
+{
     const glm::vec3 inv = oas::scene::safeInverse(r.d);
     Hit h;
     float tMax = r.tMax;
@@ -205,23 +218,24 @@ Hit closestBoxBrute(const std::vector<Aabb>& prims, const Ray& r) {
 }
 
 // Every primitive whose box the ray touches in [0, tMax] must be offered by the traversal.
-void expectConservative(const Bvh& bvh, const std::vector<Aabb>& prims, const Ray& r) {
+void expectConservative(const Bvh& bvh, const std::vector<Aabb>& prims, const Ray& r)
+{
     std::vector<char> offered(prims.size(), 0);
     traverse(bvh, r.o, r.d, r.tMax, [&](std::uint32_t p, float&) { offered[p] = 1; });
     const glm::vec3 inv = oas::scene::safeInverse(r.d);
     for (std::size_t p = 0; p < prims.size(); ++p) {
         float t;
         if (hitBox(prims[p], r.o, inv, r.tMax, t)) {
-            ASSERT_TRUE(offered[p]) << "primitive " << p << " missed; ray o=(" << r.o.x << ","
-                                    << r.o.y << "," << r.o.z << ") d=(" << r.d.x << "," << r.d.y
-                                    << "," << r.d.z << ")";
+            ASSERT_TRUE(offered[p]) << "primitive " << p << " missed; ray o=(" << r.o.x << "," << r.o.y << "," << r.o.z << ") d=("
+                                    << r.d.x << "," << r.d.y << "," << r.d.z << ")";
         }
     }
 }
 
 // ---------------------------------------------------------------------------------------------
 
-TEST(Bvh, NodeLayoutIsTwoVec4s) {
+TEST(Bvh, NodeLayoutIsTwoVec4s)
+{
     static_assert(sizeof(BvhNode) == 32);
     BvhNode nd{{1.f, 2.f, 3.f}, 7u, {4.f, 5.f, 6.f}, 9u};
     float f[8];
@@ -236,7 +250,8 @@ TEST(Bvh, NodeLayoutIsTwoVec4s) {
     EXPECT_EQ(w[7], 9u);
 }
 
-TEST(Bvh, AabbBasics) {
+TEST(Bvh, AabbBasics)
+{
     Aabb e;
     EXPECT_TRUE(e.empty());
     EXPECT_EQ(e.surfaceArea(), 0.f);
@@ -252,7 +267,8 @@ TEST(Bvh, AabbBasics) {
     EXPECT_FALSE(b.contains(flat));
 }
 
-TEST(Bvh, SlabTestIsRobustToZeroDirections) {
+TEST(Bvh, SlabTestIsRobustToZeroDirections)
+{
     using oas::scene::intersectNode;
     using oas::scene::safeInverse;
     BvhNode unit{{0, 0, 0}, 0, {1, 1, 1}, 1};
@@ -294,7 +310,8 @@ TEST(Bvh, SlabTestIsRobustToZeroDirections) {
         EXPECT_FALSE(intersectNode(empty, {0, 0, 0}, safeInverse(d), 0, kInf, t));
 }
 
-TEST(Bvh, EmptyInput) {
+TEST(Bvh, EmptyInput)
+{
     std::vector<Aabb> prims;
     Bvh bvh = buildBvh(prims);
     checkInvariants(bvh, prims, 4);
@@ -306,7 +323,8 @@ TEST(Bvh, EmptyInput) {
     EXPECT_EQ(oas::scene::bvhSahCost(bvh), 0.0);
 }
 
-TEST(Bvh, SinglePrimitive) {
+TEST(Bvh, SinglePrimitive)
+{
     std::vector<Aabb> prims{box({0, 0, 0}, {1, 1, 1})};
     Bvh bvh = buildBvh(prims);
     checkInvariants(bvh, prims, 4);
@@ -322,26 +340,27 @@ TEST(Bvh, SinglePrimitive) {
     EXPECT_EQ(calls, 1);
 }
 
-TEST(Bvh, IdenticalBoxesAreSplitByMedian) {
+TEST(Bvh, IdenticalBoxesAreSplitByMedian)
+{
     for (std::uint32_t maxLeaf : {0u, 1u, 4u, 16u}) {
         std::vector<Aabb> prims(1000, box({0, 0, 0}, {1, 1, 1}));
         Bvh bvh = buildBvh(prims, maxLeaf);
         checkInvariants(bvh, prims, maxLeaf);
         const std::uint32_t cap = std::max(maxLeaf, 1u);
         // Median splits: balanced, so the depth is about log2(n / cap).
-        EXPECT_LE(oas::scene::bvhDepth(bvh),
-                  1u + static_cast<std::uint32_t>(std::ceil(std::log2(1000.0 / cap))) + 1u);
+        EXPECT_LE(oas::scene::bvhDepth(bvh), 1u + static_cast<std::uint32_t>(std::ceil(std::log2(1000.0 / cap))) + 1u);
         int calls = 0;
         traverse(bvh, {.5f, .5f, -1}, {0, 0, 1}, kInf, [&](std::uint32_t, float&) { ++calls; });
         EXPECT_EQ(calls, 1000);
     }
 }
 
-TEST(Bvh, IdenticalPointsAndEmptyBoxes) {
+TEST(Bvh, IdenticalPointsAndEmptyBoxes)
+{
     std::vector<Aabb> prims(100, box({1, 2, 3}, {1, 2, 3}));
-    for (int i = 0; i < 20; ++i) prims.push_back(Aabb{});              // empty boxes
-    prims.push_back(box({1, 1, 1}, {0, 0, 0}));                          // inverted = empty
-    prims.push_back(box({0, 0, 0}, {std::nanf(""), 1, 1}));              // NaN = empty
+    for (int i = 0; i < 20; ++i) prims.push_back(Aabb{});    // empty boxes
+    prims.push_back(box({1, 1, 1}, {0, 0, 0}));              // inverted = empty
+    prims.push_back(box({0, 0, 0}, {std::nanf(""), 1, 1}));  // NaN = empty
     Bvh bvh = buildBvh(prims);
     checkInvariants(bvh, prims, 4);
     EXPECT_TRUE(sameBox(bvh.nodes[0].bounds(), box({1, 2, 3}, {1, 2, 3})));
@@ -351,7 +370,8 @@ TEST(Bvh, IdenticalPointsAndEmptyBoxes) {
     for (int i = 0; i < 100; ++i) EXPECT_TRUE(offered[i]) << i;
 }
 
-TEST(Bvh, FlatBoxesInAPlane) {
+TEST(Bvh, FlatBoxesInAPlane)
+{
     // Triangles-on-a-floor situation: every box has zero z extent, all at z = 0.
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> pos(-1.f, 1.f), size(0.f, 0.05f);
@@ -385,7 +405,8 @@ TEST(Bvh, FlatBoxesInAPlane) {
     EXPECT_GT(inPlaneHits, 100);
 }
 
-TEST(Bvh, PointsOnALine) {
+TEST(Bvh, PointsOnALine)
+{
     // Zero surface area everywhere: the builder ranks splits by extent sums instead.
     std::vector<Aabb> prims;
     for (int i = 0; i < 1000; ++i) {
@@ -397,15 +418,15 @@ TEST(Bvh, PointsOnALine) {
     EXPECT_LE(oas::scene::bvhDepth(bvh), 16u);
     // A ray across the line at x = 1.23 is offered only the two points there (plus few more).
     std::vector<std::uint32_t> offered;
-    traverse(bvh, {1.23f, 0, -1}, {0, 0, 1}, kInf,
-             [&](std::uint32_t p, float&) { offered.push_back(p); });
+    traverse(bvh, {1.23f, 0, -1}, {0, 0, 1}, kInf, [&](std::uint32_t p, float&) { offered.push_back(p); });
     EXPECT_LE(offered.size(), 8u);
     int exact = 0;
     for (std::uint32_t p : offered) exact += prims[p].lo.x == 1.23f;
     EXPECT_EQ(exact, 2);
 }
 
-TEST(Bvh, DepthStaysBoundedOnExponentialSpacing) {
+TEST(Bvh, DepthStaysBoundedOnExponentialSpacing)
+{
     // Centroids at (2^i, 2^j): binned splits peel off only a few primitives per level, along x
     // and then along y, which unchecked gives a depth over 90. The median fallback near the
     // limit keeps every node at depth < kBvhMaxDepth for the GPU stack.
@@ -420,8 +441,7 @@ TEST(Bvh, DepthStaysBoundedOnExponentialSpacing) {
         Bvh bvh = buildBvh(prims, maxLeaf);
         checkInvariants(bvh, prims, maxLeaf);
         EXPECT_LE(oas::scene::bvhDepth(bvh), oas::scene::kBvhMaxDepth);
-        std::printf("exponential spacing, maxLeaf %u: depth %u\n", maxLeaf,
-                    oas::scene::bvhDepth(bvh));
+        std::printf("exponential spacing, maxLeaf %u: depth %u\n", maxLeaf, oas::scene::bvhDepth(bvh));
         // Queries still agree with brute force.
         for (const auto& p : {prims[0], prims[200], prims[4000], prims.back()}) {
             Ray r{{p.lo.x, p.lo.y, -1}, {0, 0, 1}, kInf};
@@ -432,7 +452,8 @@ TEST(Bvh, DepthStaysBoundedOnExponentialSpacing) {
     }
 }
 
-TEST(Bvh, RandomBoxesClosestHitMatchesBruteForce) {
+TEST(Bvh, RandomBoxesClosestHitMatchesBruteForce)
+{
     std::mt19937 rng(1234);
     for (std::uint32_t maxLeaf : {1u, 4u, 8u}) {
         std::vector<Aabb> prims = randomBoxes(rng, 2000, 0.f, 0.04f);
@@ -452,7 +473,8 @@ TEST(Bvh, RandomBoxesClosestHitMatchesBruteForce) {
     }
 }
 
-TEST(Bvh, RandomSpheresClosestHitMatchesBruteForce) {
+TEST(Bvh, RandomSpheresClosestHitMatchesBruteForce)
+{
     std::mt19937 rng(99);
     std::uniform_real_distribution<float> pos(-1.f, 1.f), rad(0.005f, 0.06f);
     std::vector<Sphere> spheres;
@@ -500,12 +522,12 @@ TEST(Bvh, RandomSpheresClosestHitMatchesBruteForce) {
     EXPECT_GT(hits, 1000);
     // The point of a BVH: far fewer candidates than primitives.
     const double perRay = double(offeredTotal) / double(rays.size());
-    std::printf("spheres: %d/%zu rays hit, %.1f candidates per ray of %zu\n", hits, rays.size(),
-                perRay, spheres.size());
+    std::printf("spheres: %d/%zu rays hit, %.1f candidates per ray of %zu\n", hits, rays.size(), perRay, spheres.size());
     EXPECT_LT(perRay, 200.0);
 }
 
-TEST(Bvh, AnyHitStopsEarly) {
+TEST(Bvh, AnyHitStopsEarly)
+{
     std::vector<Aabb> prims(50, box({0, 0, 0}, {1, 1, 1}));
     Bvh bvh = buildBvh(prims);
     int calls = 0;
@@ -516,14 +538,14 @@ TEST(Bvh, AnyHitStopsEarly) {
     EXPECT_EQ(calls, 1);
 }
 
-TEST(Bvh, SahSplitsBetweenClusters) {
+TEST(Bvh, SahSplitsBetweenClusters)
+{
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(0.f, 1.f);
     std::vector<Aabb> prims;
     for (int i = 0; i < 1000; ++i) {
         // Cluster A around the origin, cluster B at +100 in y (not the first axis tried).
-        const glm::vec3 c = glm::vec3(u(rng), u(rng), u(rng)) + (i % 2 ? glm::vec3(0, 100, 0)
-                                                                         : glm::vec3(0));
+        const glm::vec3 c = glm::vec3(u(rng), u(rng), u(rng)) + (i % 2 ? glm::vec3(0, 100, 0) : glm::vec3(0));
         prims.push_back(box(c - 0.01f, c + 0.01f));
     }
     Bvh bvh = buildBvh(prims);
@@ -541,8 +563,10 @@ TEST(Bvh, SahSplitsBetweenClusters) {
         while (!st.empty()) {
             const BvhNode& nd = bvh.nodes[st.back()];
             st.pop_back();
-            if (nd.isLeaf()) c += nd.count;
-            else st.insert(st.end(), {nd.leftOrFirst, nd.leftOrFirst + 1});
+            if (nd.isLeaf())
+                c += nd.count;
+            else
+                st.insert(st.end(), {nd.leftOrFirst, nd.leftOrFirst + 1});
         }
         return c;
     };
@@ -550,7 +574,8 @@ TEST(Bvh, SahSplitsBetweenClusters) {
     EXPECT_EQ(countBelow(root.leftOrFirst + 1), 500u);
 }
 
-TEST(Bvh, SahCostOfClusteredScene) {
+TEST(Bvh, SahCostOfClusteredScene)
+{
     // A dense cluster plus sparse outliers: the SAH cost must come out far below the cost of one
     // leaf holding everything (5000); it is at least 1, the root traversal itself.
     std::mt19937 rng(11);
@@ -569,15 +594,16 @@ TEST(Bvh, SahCostOfClusteredScene) {
     EXPECT_LT(cost, 100.0);
 }
 
-TEST(Bvh, MillionBoxes) {
+TEST(Bvh, MillionBoxes)
+{
     std::mt19937 rng(2024);
     std::vector<Aabb> prims = randomBoxes(rng, 1'000'000, 0.0005f, 0.005f);
     const auto t0 = std::chrono::steady_clock::now();
     Bvh bvh = buildBvh(prims);
     const auto t1 = std::chrono::steady_clock::now();
-    std::printf("built BVH over %zu boxes in %.3f s: %zu nodes, depth %u, SAH cost %.2f\n",
-                prims.size(), std::chrono::duration<double>(t1 - t0).count(), bvh.nodes.size(),
-                oas::scene::bvhDepth(bvh), oas::scene::bvhSahCost(bvh));
+    std::printf("built BVH over %zu boxes in %.3f s: %zu nodes, depth %u, SAH cost %.2f\n", prims.size(),
+                std::chrono::duration<double>(t1 - t0).count(), bvh.nodes.size(), oas::scene::bvhDepth(bvh),
+                oas::scene::bvhSahCost(bvh));
     checkInvariants(bvh, prims, 4);
     for (const Ray& r : randomRays(rng, 64)) {
         const Hit a = closestBoxBvh(bvh, prims, r), b = closestBoxBrute(prims, r);

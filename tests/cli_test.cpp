@@ -121,8 +121,7 @@ ToolRun runTool(const std::vector<std::string>& args, const std::vector<std::str
         }
     }
     int wstatus = 0;
-    while (::waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {
-    }
+    while (::waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {}
     r.status = WIFEXITED(wstatus) ? WEXITSTATUS(wstatus) : 128 + WTERMSIG(wstatus);
     return r;
 }
@@ -184,8 +183,8 @@ std::vector<float> parseCsv(const std::string& text, std::uint32_t dims, std::st
 }
 
 /// The library's own values for the request the tests pass to the tool.
-std::vector<float> expectedValues(const std::string& sampler, std::uint32_t spp, std::uint32_t dims,
-                                  std::uint32_t seed, std::uint32_t x, std::uint32_t y)
+std::vector<float> expectedValues(const std::string& sampler, std::uint32_t spp, std::uint32_t dims, std::uint32_t seed,
+                                  std::uint32_t x, std::uint32_t y)
 {
     oas::PatternRequest pr;
     pr.sampler = sampler;
@@ -211,8 +210,8 @@ void expectBitIdentical(const std::vector<float>& expected, const std::vector<fl
     for (std::size_t i = 0; i < expected.size(); ++i) {
         if (bits(expected[i]) == bits(actual[i])) continue;
         if (++mismatches <= 5)
-            ADD_FAILURE() << "value " << i << ": library " << expected[i] << " (0x" << std::hex
-                          << bits(expected[i]) << "), tool " << actual[i] << " (0x" << bits(actual[i]) << std::dec << ")";
+            ADD_FAILURE() << "value " << i << ": library " << expected[i] << " (0x" << std::hex << bits(expected[i]) << "), tool "
+                          << actual[i] << " (0x" << bits(actual[i]) << std::dec << ")";
     }
     EXPECT_EQ(mismatches, 0u);
 }
@@ -383,8 +382,7 @@ TEST_F(CliTest, RequestsTooLargeForMemorySayHowLarge)
     EXPECT_EQ(WEXITSTATUS(status), 1);
     std::ifstream in(err);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    EXPECT_NE(text.find("out of memory for --spp 16777216 x --dims 64 = 1073741824 values (4.0 GiB"), std::string::npos)
-        << text;
+    EXPECT_NE(text.find("out of memory for --spp 16777216 x --dims 64 = 1073741824 values (4.0 GiB"), std::string::npos) << text;
     EXPECT_FALSE(fs::exists(out));
 #endif
 }
@@ -501,8 +499,9 @@ TEST_F(CliTest, ListNamesEverySamplerAndValidCounts)
 {
     const ToolRun r = runTool({"--list", "--spp", "100", "--dims", "4"});
     ASSERT_EQ(r.status, 0) << describe(r);
-    const std::vector<std::string> names = {"bose",   "bush",       "bose-bush", "addelman-kempthorne", "cmjnd",
-                                            "random", "jittered2d", "cmj2d",     "zerotwo",             "halton", "sobol"};
+    const std::vector<std::string> names = {"bose",    "bush",   "bose-bush",  "addelman-kempthorne",
+                                            "cmjnd",   "random", "jittered2d", "cmj2d",
+                                            "zerotwo", "halton", "sobol"};
     const std::vector<std::string> lines = splitLines(r.out);
     for (const auto& name : names) {
         bool found = false;

@@ -23,13 +23,29 @@ using oas::glsl::OAS_DRAW_MAX;
 /// blocks (where a group of 8 crosses several) and the largest cases.
 std::vector<oas::test::SamplerCase> oaCases()
 {
-    std::vector<oas::test::SamplerCase> cases = {
-        {"bose", 4, 0},     {"bose", 9, 0},        {"bose", 64, 0},    {"bose", 81, 0},
-        {"bose", 121, 0},   {"bose", 625, 0},      {"bose", 1024, 0},  {"bush", 9, 2}, 
-        {"bush", 27, 3},    {"bush", 125, 3},      {"bush", 4096, 3},  {"bush", 729, 3},
-        {"bush", 15625, 3}, {"bush", 16777216, 8}, {"bose-bush", 8, 0}, {"bose-bush", 128, 0},
-        {"addelman-kempthorne", 18, 0},  {"addelman-kempthorne", 162, 0}, {"addelman-kempthorne", 1250, 0},
-        {"cmjnd", 4, 2},    {"cmjnd", 8, 3},       {"cmjnd", 81, 4},   {"cmjnd", 32, 5}};
+    std::vector<oas::test::SamplerCase> cases = {{"bose", 4, 0},
+                                                 {"bose", 9, 0},
+                                                 {"bose", 64, 0},
+                                                 {"bose", 81, 0},
+                                                 {"bose", 121, 0},
+                                                 {"bose", 625, 0},
+                                                 {"bose", 1024, 0},
+                                                 {"bush", 9, 2},
+                                                 {"bush", 27, 3},
+                                                 {"bush", 125, 3},
+                                                 {"bush", 4096, 3},
+                                                 {"bush", 729, 3},
+                                                 {"bush", 15625, 3},
+                                                 {"bush", 16777216, 8},
+                                                 {"bose-bush", 8, 0},
+                                                 {"bose-bush", 128, 0},
+                                                 {"addelman-kempthorne", 18, 0},
+                                                 {"addelman-kempthorne", 162, 0},
+                                                 {"addelman-kempthorne", 1250, 0},
+                                                 {"cmjnd", 4, 2},
+                                                 {"cmjnd", 8, 3},
+                                                 {"cmjnd", 81, 4},
+                                                 {"cmjnd", 32, 5}};
     for (const auto& h : oas::test::hardCases()) cases.push_back(h);
     return cases;
 }
@@ -40,8 +56,8 @@ std::vector<oas::Pattern> everyPattern()
     for (const auto& c : oaCases())
         for (const char* offset : {"centered", "j", "mj", "cmj"}) patterns.push_back(oas::test::patternOf(c, offset));
     const std::vector<std::pair<const char*, std::uint32_t>> baselines = {
-        {"random", 4096},  {"jittered2d", 1000}, {"cmj2d", 256},       {"cmj2d", 16777213}, {"zerotwo", 64},
-        {"zerotwo", 16777216}, {"halton", 100}, {"halton", 16777216}, {"sobol", 121},       {"sobol", 16777216}};
+        {"random", 4096},      {"jittered2d", 1000}, {"cmj2d", 256},       {"cmj2d", 16777213}, {"zerotwo", 64},
+        {"zerotwo", 16777216}, {"halton", 100},      {"halton", 16777216}, {"sobol", 121},      {"sobol", 16777216}};
     for (const auto& [sampler, spp] : baselines) {
         oas::PatternRequest r;
         r.sampler = sampler;
@@ -68,8 +84,8 @@ TEST(Draw, EqualsOasSampleBitForBitForEveryPatternAndZeroBeyondTheCount)
     const auto patterns = everyPattern();
     for (const oas::Pattern& pattern : patterns) {
         const auto p = oas::glsl::toGlsl(pattern);
-        const std::vector<std::uint32_t> indices = {0u,         1u,         pattern.N - 1, pattern.N,
-                                                    pattern.N + 3, 2 * pattern.N + 1, 0xfffffffeu, 0xffffffffu};
+        const std::vector<std::uint32_t> indices = {
+            0u, 1u, pattern.N - 1, pattern.N, pattern.N + 3, 2 * pattern.N + 1, 0xfffffffeu, 0xffffffffu};
         for (std::uint32_t seed : {0u, 0x9e3779b9u, oas::glsl::oas_pixel_seed(16383u, 5u, 42u)}) {
             for (std::uint32_t index : indices) {
                 for (std::uint32_t first : firstDims(pattern)) {

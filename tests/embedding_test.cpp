@@ -190,8 +190,8 @@ TEST(Embedding, OtherRendererShaderCompilesWithGlslang)
     const fs::path source = fs::path(OAS_TEST_SHADER_DIR) / "other_renderer.comp";
     ASSERT_TRUE(fs::exists(source)) << source;
     const fs::path spv = fs::temp_directory_path() / ("oas_other_renderer_" + std::to_string(::getpid()) + ".spv");
-    const std::string command = shellQuote(OAS_GLSLANG) + " --target-env vulkan1.1 -I" + shellQuote(OAS_SHADER_DIR) +
-                                " -o " + shellQuote(spv.string()) + " " + shellQuote(source.string()) + " 2>&1";
+    const std::string command = shellQuote(OAS_GLSLANG) + " --target-env vulkan1.1 -I" + shellQuote(OAS_SHADER_DIR) + " -o " +
+                                shellQuote(spv.string()) + " " + shellQuote(source.string()) + " 2>&1";
     std::FILE* pipe = ::popen(command.c_str(), "r");
     ASSERT_NE(pipe, nullptr) << command;
     std::string output;
@@ -222,8 +222,8 @@ std::pair<bool, std::string> compileText(const std::string& text, std::string* s
         std::fputs(text.c_str(), f);
         std::fclose(f);
     }
-    const std::string command = shellQuote(OAS_GLSLANG) + " --target-env vulkan1.1 -I" + shellQuote(OAS_SHADER_DIR) +
-                                " -o " + shellQuote(spv.string()) + " " + shellQuote(source.string()) + " 2>&1";
+    const std::string command = shellQuote(OAS_GLSLANG) + " --target-env vulkan1.1 -I" + shellQuote(OAS_SHADER_DIR) + " -o " +
+                                shellQuote(spv.string()) + " " + shellQuote(source.string()) + " 2>&1";
     std::FILE* pipe = ::popen(command.c_str(), "r");
     std::string output;
     if (pipe) {
@@ -283,9 +283,10 @@ TEST(Embedding, SobolWithoutDirectionNumbersIsACompileError)
     EXPECT_NE(message.find("OAS_SOBOL_DIRECTION"), std::string::npos) << message;
     const auto [optedOut, optedOutMessage] = compileText(head + "#define OAS_NO_SOBOL\n" + body);
     EXPECT_TRUE(optedOut) << optedOutMessage;
-    const auto [withTable, withTableMessage] = compileText(
-        head + "layout(std430, binding = 0) readonly buffer D { uint d[]; };\n"
-               "#define OAS_SOBOL_DIRECTION(dim, bit) d[(dim) * 32u + (bit)]\n" + body);
+    const auto [withTable, withTableMessage] = compileText(head +
+                                                           "layout(std430, binding = 0) readonly buffer D { uint d[]; };\n"
+                                                           "#define OAS_SOBOL_DIRECTION(dim, bit) d[(dim) * 32u + (bit)]\n" +
+                                                           body);
     EXPECT_TRUE(withTable) << withTableMessage;
 }
 
@@ -294,8 +295,16 @@ TEST(Embedding, TheHeaderListsExactlyTheMacroNamesThatBreakIt)
     // The header's list of names an includer must not have as object-like macros is checked
     // both ways: each listed name breaks the include, and common renderer macros outside the list
     // (a sample of them) do not. A rename that makes a name safe must update the header.
-    const std::vector<std::string> listed = {"N", "K", "i", "j", "k", "l", "m", "n", "p", "q", "r", "s", "t", "u", "v", "x", "y", "seed", "index", "offset", "dim", "pass", "row", "col", "level", "block", "key", "hi", "lo", "bits", "mask", "shift", "f", "g", "a", "b", "c", "d", "e", "h", "sub", "rotation", "pivot", "partner", "stratum", "jitter", "base", "digit", "power", "construction", "strength", "aux", "fieldP"};
-    const std::vector<std::string> safe = {"M", "L", "S", "T", "P", "Q", "R", "A", "B", "C", "D", "E", "F", "G", "H", "I", "J", "U", "V", "W", "X", "Y", "Z", "w", "z", "count", "PI", "EPS", "ONE", "ZERO", "MAX", "MIN", "value", "sum"};
+    const std::vector<std::string> listed = {
+        "N",        "K",        "i",     "j",       "k",       "l",      "m",    "n",     "p",     "q",
+        "r",        "s",        "t",     "u",       "v",       "x",      "y",    "seed",  "index", "offset",
+        "dim",      "pass",     "row",   "col",     "level",   "block",  "key",  "hi",    "lo",    "bits",
+        "mask",     "shift",    "f",     "g",       "a",       "b",      "c",    "d",     "e",     "h",
+        "sub",      "rotation", "pivot", "partner", "stratum", "jitter", "base", "digit", "power", "construction",
+        "strength", "aux",      "fieldP"};
+    const std::vector<std::string> safe = {"M", "L",     "S",  "T",   "P",   "Q",    "R",   "A",   "B",     "C",  "D", "E",
+                                           "F", "G",     "H",  "I",   "J",   "U",    "V",   "W",   "X",     "Y",  "Z", "w",
+                                           "z", "count", "PI", "EPS", "ONE", "ZERO", "MAX", "MIN", "value", "sum"};
     // The header's list: the words between "glslangValidator):" and "Undefine", minus "//".
     const std::string header = readFile(fs::path(OAS_SHADER_DIR) / "oas" / "oas.glsl");
     const std::size_t from = header.find("glslangValidator):"), to = header.find("Undefine", from);
@@ -316,7 +325,8 @@ TEST(Embedding, TheHeaderListsExactlyTheMacroNamesThatBreakIt)
             << "#define " << name << " no longer breaks the include: drop it from the header's list";
     }
     for (const std::string& name : safe)
-        EXPECT_TRUE(compileText(shader + "#define " + name + " 7u\n" + body).first) << "#define " << name << " breaks the include";
+        EXPECT_TRUE(compileText(shader + "#define " + name + " 7u\n" + body).first)
+            << "#define " << name << " breaks the include";
 }
 
 // ------------------------------------------------------------------------------- scan the files
@@ -327,8 +337,8 @@ TEST(Embedding, LibraryFilesDeclareOnlyPrefixedNamesAndNoInterface)
     ASSERT_FALSE(files.empty()) << "no .glsl files in " << OAS_SHADER_DIR << "/oas";
     std::vector<std::string> fileNames;
     for (auto& f : files) fileNames.push_back(f.filename().string());
-    for (const char* expected : {"oas.glsl", "oas_hash.glsl", "oas_intdiv.glsl", "oas_permute.glsl", "oas_strata.glsl", "oas_gf.glsl",
-                                 "oas_pattern.glsl", "oas_oa.glsl", "oas_baselines.glsl", "oas_draw.glsl"})
+    for (const char* expected : {"oas.glsl", "oas_hash.glsl", "oas_intdiv.glsl", "oas_permute.glsl", "oas_strata.glsl",
+                                 "oas_gf.glsl", "oas_pattern.glsl", "oas_oa.glsl", "oas_baselines.glsl", "oas_draw.glsl"})
         EXPECT_NE(std::find(fileNames.begin(), fileNames.end(), expected), fileNames.end()) << expected << " not scanned";
 
     std::vector<Finding> findings;
@@ -341,8 +351,9 @@ TEST(Embedding, LibraryFilesDeclareOnlyPrefixedNamesAndNoInterface)
     EXPECT_TRUE(findings.empty()) << findings.size() << " offender(s):\n" << format(findings);
 
     // The scan must actually see the library's declarations, or a passing scan means nothing.
-    for (const char* name : {"oas_sample", "oas_pixel_seed", "oas_row", "oas_row_dim", "oas_pcg", "oas_permute", "oas_draw", "OasDraw", "OAS_DRAW_MAX",
-                             "OasPattern", "OasRow", "OasField", "OAS_BOSE", "OAS_INV_2POW24", "OAS_GLSL", "OAS_CONSTRUCTION"})
+    for (const char* name :
+         {"oas_sample", "oas_pixel_seed", "oas_row", "oas_row_dim", "oas_pcg", "oas_permute", "oas_draw", "OasDraw",
+          "OAS_DRAW_MAX", "OasPattern", "OasRow", "OasField", "OAS_BOSE", "OAS_INV_2POW24", "OAS_GLSL", "OAS_CONSTRUCTION"})
         EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << "scanner did not see '" << name << "'";
     EXPECT_GE(names.size(), 50u);
 }
@@ -358,23 +369,22 @@ TEST(Embedding, ScannerFlagsForeignNamesNegativeControl)
 
 TEST(Embedding, ScannerFlagsEveryKindOfOffence)
 {
-    const std::string text =
-        "#version 450\n"                                              // 1
-        "#extension GL_GOOGLE_include_directive : require\n"          // 2
-        "layout(local_size_x = 64) in;\n"                             // 3
-        "struct Pattern {\n"                                          // 4
-        "    uint n;\n"                                               // 5
-        "};\n"                                                        // 6
-        "const uint ONE = 1u;\n"                                      // 7
-        "#define N 16\n"                                              // 8
-        "uint counter;\n"                                             // 9
-        "float random(uint seed) { return 0.5; }\n"                   // 10
-        "Pattern makePattern(uint n)\n"                               // 11
-        "{\n"                                                         // 12
-        "    Pattern p;\n"                                            // 13
-        "    return p;\n"                                             // 14
-        "}\n"                                                         // 15
-        "layout(std430, set = 0, binding = 1) buffer B { float v[]; };\n";  // 16
+    const std::string text = "#version 450\n"                                                    // 1
+                             "#extension GL_GOOGLE_include_directive : require\n"                // 2
+                             "layout(local_size_x = 64) in;\n"                                   // 3
+                             "struct Pattern {\n"                                                // 4
+                             "    uint n;\n"                                                     // 5
+                             "};\n"                                                              // 6
+                             "const uint ONE = 1u;\n"                                            // 7
+                             "#define N 16\n"                                                    // 8
+                             "uint counter;\n"                                                   // 9
+                             "float random(uint seed) { return 0.5; }\n"                         // 10
+                             "Pattern makePattern(uint n)\n"                                     // 11
+                             "{\n"                                                               // 12
+                             "    Pattern p;\n"                                                  // 13
+                             "    return p;\n"                                                   // 14
+                             "}\n"                                                               // 15
+                             "layout(std430, set = 0, binding = 1) buffer B { float v[]; };\n";  // 16
     const ScanResult r = scanGlsl(text, "synthetic.glsl");
     EXPECT_TRUE(flagged(r, 1, "#version")) << format(r.findings);
     EXPECT_TRUE(flagged(r, 2, "#extension")) << format(r.findings);
@@ -392,24 +402,23 @@ TEST(Embedding, ScannerFlagsEveryKindOfOffence)
 
 TEST(Embedding, ScannerIgnoresCommentsBodiesAndPrefixedNames)
 {
-    const std::string text =
-        "// uint hash(uint x) and layout(binding = 0) in a comment\n"
-        "/* struct Pattern {\n"
-        "   #version 450 */\n"
-        "#ifndef OAS_THING\n"
-        "#define OAS_THING\n"
-        "const uint OAS_ONE = 1u;\n"
-        "struct OasThing {\n"
-        "    uint hash;\n"
-        "    uint N;\n"
-        "};\n"
-        "uint oas_thing(uint x)\n"
-        "{\n"
-        "    uint hash = x;\n"
-        "    const uint N = 3u;\n"
-        "    return hash + N;\n"
-        "}\n"
-        "#endif\n";
+    const std::string text = "// uint hash(uint x) and layout(binding = 0) in a comment\n"
+                             "/* struct Pattern {\n"
+                             "   #version 450 */\n"
+                             "#ifndef OAS_THING\n"
+                             "#define OAS_THING\n"
+                             "const uint OAS_ONE = 1u;\n"
+                             "struct OasThing {\n"
+                             "    uint hash;\n"
+                             "    uint N;\n"
+                             "};\n"
+                             "uint oas_thing(uint x)\n"
+                             "{\n"
+                             "    uint hash = x;\n"
+                             "    const uint N = 3u;\n"
+                             "    return hash + N;\n"
+                             "}\n"
+                             "#endif\n";
     const ScanResult r = scanGlsl(text, "synthetic.glsl");
     EXPECT_TRUE(r.findings.empty()) << format(r.findings);
     for (const char* name : {"OAS_THING", "OAS_ONE", "OasThing", "oas_thing"})
@@ -428,8 +437,7 @@ std::uint32_t referencePcg(std::uint32_t v)
 
 TEST(Embedding, CppTwinCompilesTheSameFiles)
 {
-    for (std::uint32_t v : {0u, 1u, 2u, 12345u, 0x80000000u, 0xffffffffu})
-        EXPECT_EQ(oas::glsl::oas_pcg(v), referencePcg(v)) << v;
+    for (std::uint32_t v : {0u, 1u, 2u, 12345u, 0x80000000u, 0xffffffffu}) EXPECT_EQ(oas::glsl::oas_pcg(v), referencePcg(v)) << v;
     EXPECT_EQ(oas::glsl::OAS_BOSE, 1u);
     EXPECT_EQ(sizeof(oas::glsl::OasPattern), 64u);
 

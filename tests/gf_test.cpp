@@ -26,7 +26,10 @@ struct FieldCase {
     std::uint32_t p, k;
 };
 
-void PrintTo(const FieldCase& c, std::ostream* os) { *os << "GF(" << c.p << "^" << c.k << ")"; }
+void PrintTo(const FieldCase& c, std::ostream* os)
+{
+    *os << "GF(" << c.p << "^" << c.k << ")";
+}
 
 using oas::test::ipow;
 

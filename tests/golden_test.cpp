@@ -60,7 +60,10 @@ oas::Pattern patternOf(const json& c)
     return p;
 }
 
-std::uint32_t toF(float v) { return std::uint32_t(std::ldexp(double(v), 24)); }
+std::uint32_t toF(float v)
+{
+    return std::uint32_t(std::ldexp(double(v), 24));
+}
 
 TEST(Golden, TheFileHoldsEveryCaseOfTheList)
 {
@@ -136,7 +139,7 @@ TEST_F(GoldenGpu, GlslSamplesMatch)
         oas::vk::Buffer in(ctx, points.size() * sizeof(std::uint32_t)), out(ctx, count * sizeof(float));
         std::memcpy(in.data(), points.data(), points.size() * sizeof(std::uint32_t));
         std::memset(out.data(), 0xff, count * sizeof(float));  // NaN until written
-        const Push push{patternOf(c), seed, count};  // the file's words, uploaded as they are
+        const Push push{patternOf(c), seed, count};            // the file's words, uploaded as they are
         oas::vk::Buffer* buffers[] = {&in, &out, &sobol};
         ctx.dispatch(pipeline, buffers, &push, sizeof(push), (count + 7) / 8);
         const auto* got = static_cast<const float*>(out.data());
@@ -154,7 +157,10 @@ struct NaiveField {
     std::vector<std::uint32_t> digits(std::uint32_t a) const
     {
         std::vector<std::uint32_t> d(k);
-        for (auto& x : d) { x = a % p; a /= p; }
+        for (auto& x : d) {
+            x = a % p;
+            a /= p;
+        }
         return d;
     }
     std::uint32_t value(const std::vector<std::uint32_t>& d) const
@@ -214,8 +220,9 @@ void expectDivisor(std::uint32_t d, std::uint32_t recip, std::uint32_t shift, co
 TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
 {
     const std::map<std::string, std::uint32_t> codes = {
-        {"bose", 1}, {"bush", 2}, {"bose-bush", 3}, {"addelman-kempthorne", 4}, {"cmjnd", 5}, {"random", 16},
-        {"jittered2d", 17}, {"cmj2d", 18}, {"zerotwo", 19}, {"halton", 20}, {"sobol", 21}};
+        {"bose", 1},     {"bush", 2},    {"bose-bush", 3},   {"addelman-kempthorne", 4},
+        {"cmjnd", 5},    {"random", 16}, {"jittered2d", 17}, {"cmj2d", 18},
+        {"zerotwo", 19}, {"halton", 20}, {"sobol", 21}};
     const std::map<std::string, std::uint32_t> offsets = {{"centered", 0}, {"j", 1}, {"mj", 2}, {"cmj", 3}};
     for (const auto& c : golden()["cases"]) {
         SCOPED_TRACE(c["describe"].get<std::string>());
@@ -250,9 +257,21 @@ TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
                 }
             }
             switch (code) {
-            case 1: EXPECT_EQ(t, 2u); EXPECT_EQ(N, s * s); EXPECT_EQ(w.blockDims, s + 1); break;
-            case 2: EXPECT_EQ(N, st); EXPECT_EQ(w.blockDims, s + 1); EXPECT_EQ(w.aux, N / s); break;
-            case 3: EXPECT_EQ(t, 2u); EXPECT_EQ(N, 2 * s * s); EXPECT_EQ(w.blockDims, 2 * s + 1); break;
+            case 1:
+                EXPECT_EQ(t, 2u);
+                EXPECT_EQ(N, s * s);
+                EXPECT_EQ(w.blockDims, s + 1);
+                break;
+            case 2:
+                EXPECT_EQ(N, st);
+                EXPECT_EQ(w.blockDims, s + 1);
+                EXPECT_EQ(w.aux, N / s);
+                break;
+            case 3:
+                EXPECT_EQ(t, 2u);
+                EXPECT_EQ(N, 2 * s * s);
+                EXPECT_EQ(w.blockDims, 2 * s + 1);
+                break;
             case 4: {
                 EXPECT_EQ(t, 2u);
                 EXPECT_EQ(N, 2 * s * s);
@@ -266,7 +285,11 @@ TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
                 EXPECT_EQ(w.aux, smallest);
                 break;
             }
-            case 5: EXPECT_EQ(N, st); EXPECT_EQ(w.blockDims, t); EXPECT_EQ(t, r.strength ? r.strength : r.dims); break;
+            case 5:
+                EXPECT_EQ(N, st);
+                EXPECT_EQ(w.blockDims, t);
+                EXPECT_EQ(t, r.strength ? r.strength : r.dims);
+                break;
             }
         } else {
             EXPECT_EQ(s, N);

@@ -19,11 +19,28 @@ using Case = oas::test::SamplerCase;
 
 std::vector<Case> oaCases()
 {
-    return {{"bose", 4, 0},    {"bose", 9, 0},    {"bose", 16, 0},     {"bose", 64, 0},  {"bose", 81, 0},
-            {"bose", 121, 0},  {"bose", 256, 0},  {"bush", 27, 3},     {"bush", 64, 3},  {"bush", 256, 4},
-            {"bush", 125, 3},  {"bush", 49, 2},   {"bose-bush", 8, 0}, {"bose-bush", 32, 0},
-            {"bose-bush", 128, 0}, {"addelman-kempthorne", 18, 0}, {"addelman-kempthorne", 50, 0},
-            {"addelman-kempthorne", 162, 0}, {"cmjnd", 8, 3}, {"cmjnd", 81, 4}, {"cmjnd", 25, 2}, {"cmjnd", 32, 5}};
+    return {{"bose", 4, 0},
+            {"bose", 9, 0},
+            {"bose", 16, 0},
+            {"bose", 64, 0},
+            {"bose", 81, 0},
+            {"bose", 121, 0},
+            {"bose", 256, 0},
+            {"bush", 27, 3},
+            {"bush", 64, 3},
+            {"bush", 256, 4},
+            {"bush", 125, 3},
+            {"bush", 49, 2},
+            {"bose-bush", 8, 0},
+            {"bose-bush", 32, 0},
+            {"bose-bush", 128, 0},
+            {"addelman-kempthorne", 18, 0},
+            {"addelman-kempthorne", 50, 0},
+            {"addelman-kempthorne", 162, 0},
+            {"cmjnd", 8, 3},
+            {"cmjnd", 81, 4},
+            {"cmjnd", 25, 2},
+            {"cmjnd", 32, 5}};
 }
 
 void expectBitIdentical(const std::vector<float>& cpu, const std::vector<float>& gpu, const std::string& what)
@@ -75,7 +92,7 @@ TEST_F(GpuCpu, EveryOrthogonalArrayAndOffset)
             r.height = 2;
             r.x0 = c.spp % 2 ? 16381 : 5;  // pixel coordinates up to 16383
             r.y0 = c.spp % 3 ? 16382 : 0;
-            r.spp = pattern.N + pattern.N / 2;               // indices past N: a second pass
+            r.spp = pattern.N + pattern.N / 2;                                // indices past N: a second pass
             r.dims = std::min<std::uint32_t>(2 * pattern.blockDims + 3, 64);  // several blocks
             r.seed = c.spp * 7919u;
             compare(gpu, pattern, r, std::string(c.sampler) + " " + std::to_string(c.spp) + " " + offset);

@@ -72,8 +72,8 @@ struct TempDir {
     {
         static int counter = 0;
         const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        path = fs::temp_directory_path() / ("oas_image_test." + std::to_string(::getpid()) + "." +
-                                            std::to_string(counter++) + "." + info->name());
+        path = fs::temp_directory_path() /
+               ("oas_image_test." + std::to_string(::getpid()) + "." + std::to_string(counter++) + "." + info->name());
         fs::remove_all(path);
         fs::create_directories(path);
     }
@@ -170,8 +170,7 @@ TEST(Exr, RoundTripIsBitExactForAllFloats)
     Imf::InputFile file(path.c_str());
     const Imf::ChannelList& channels = file.header().channels();
     int count = 0;
-    for (auto it = channels.begin(); it != channels.end(); ++it, ++count)
-        EXPECT_EQ(it.channel().type, Imf::FLOAT) << it.name();
+    for (auto it = channels.begin(); it != channels.end(); ++it, ++count) EXPECT_EQ(it.channel().type, Imf::FLOAT) << it.name();
     EXPECT_EQ(count, 4);
     for (const char* c : {"R", "G", "B", "A"}) EXPECT_NE(channels.findChannel(c), nullptr) << c;
 }
@@ -277,9 +276,8 @@ TEST(AtomicFile, StaleTemporariesOfDeadProcessesAreRemoved)
     // a live process's file (it may be writing right now) and files not of our naming stay.
     TempDir dir;
     const std::string dead = std::to_string(deadPid()), live = std::to_string(::getppid());
-    const std::vector<std::string> stale = {"x.exr.tmp." + dead + ".0", "x.exr.tmp." + dead + ".17",
-                                            "x.png.tmp." + dead};
-    const std::vector<std::string> kept = {"x.exr.tmp." + live + ".0", "x.exr.tmp.abc", "x.exr.tmp." + dead + ".x",
+    const std::vector<std::string> stale = {"x.exr.tmp." + dead + ".0", "x.exr.tmp." + dead + ".17", "x.png.tmp." + dead};
+    const std::vector<std::string> kept = {"x.exr.tmp." + live + ".0", "x.exr.tmp.abc",      "x.exr.tmp." + dead + ".x",
                                            "y.exr.tmp." + dead + ".0", "x.exr.tmpl." + dead, "notes.txt"};
     for (const auto& name : stale) std::ofstream(dir / name) << "partial";
     for (const auto& name : kept) std::ofstream(dir / name) << "keep";
@@ -357,8 +355,7 @@ TEST(Exr, DiskFullLeavesNothing)
         }
         std::_Exit(4);
     };
-    EXPECT_EXIT(writeWithLimit(),
-        ::testing::ExitedWithCode(0), "cannot write .*full.exr");
+    EXPECT_EXIT(writeWithLimit(), ::testing::ExitedWithCode(0), "cannot write .*full.exr");
     EXPECT_TRUE(dir.entries().empty());
 }
 
@@ -389,8 +386,8 @@ int expectedSrgb8(double linear)
 std::vector<unsigned char> decodePng(const std::string& bytes, int& w, int& h)
 {
     int comp = 0;
-    unsigned char* data = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()),
-                                                int(bytes.size()), &w, &h, &comp, 3);
+    unsigned char* data =
+        stbi_load_from_memory(reinterpret_cast<const unsigned char*>(bytes.data()), int(bytes.size()), &w, &h, &comp, 3);
     if (!data) return {};
     std::vector<unsigned char> out(data, data + std::size_t(w) * h * 3);
     stbi_image_free(data);
@@ -411,8 +408,8 @@ TEST(Png, KnownValuesMapToSrgb)
         ASSERT_EQ(int(oas::image::linearToSrgb8(v)), expectedSrgb8(v)) << v;
     }
 
-    const float values[] = {0.5f, 0.002f, 0.0f, 1.0f, 2.0f, -1.0f, std::numeric_limits<float>::quiet_NaN(), 0.18f,
-                            0.01f, 0.9f, 1e-6f, 0.0031308f};
+    const float values[] = {0.5f,  0.002f, 0.0f, 1.0f,  2.0f,      -1.0f, std::numeric_limits<float>::quiet_NaN(),
+                            0.18f, 0.01f,  0.9f, 1e-6f, 0.0031308f};
     Image image(4, 3);  // 12 pixels; each pixel's R is values[p], G and B are 0.5 and 0.25
     for (std::size_t p = 0; p < 12; ++p) {
         image.rgba[p * 4 + 0] = values[p];
@@ -434,8 +431,8 @@ TEST(Png, KnownValuesMapToSrgb)
         return (std::uint32_t(std::uint8_t(bytes[at])) << 24) | (std::uint32_t(std::uint8_t(bytes[at + 1])) << 16) |
                (std::uint32_t(std::uint8_t(bytes[at + 2])) << 8) | std::uint32_t(std::uint8_t(bytes[at + 3]));
     };
-    EXPECT_EQ(be32(16), 4u);  // width
-    EXPECT_EQ(be32(20), 3u);  // height
+    EXPECT_EQ(be32(16), 4u);                // width
+    EXPECT_EQ(be32(20), 3u);                // height
     EXPECT_EQ(std::uint8_t(bytes[24]), 8);  // bit depth
 
     int w = 0, h = 0;
@@ -451,9 +448,9 @@ TEST(Png, KnownValuesMapToSrgb)
 
     // Exposure +1 stop doubles linear values before encoding.
     const auto brighter = decodePng(oas::image::encodePngPreview(image, 1.0f), w, h);
-    EXPECT_EQ(int(brighter[0]), 255);                        // 0.5 * 2 = 1
-    EXPECT_EQ(int(brighter[2]), expectedSrgb8(0.5));         // B 0.25 * 2
-    EXPECT_EQ(int(brighter[7 * 3]), expectedSrgb8(0.36));    // 0.18 * 2
+    EXPECT_EQ(int(brighter[0]), 255);                      // 0.5 * 2 = 1
+    EXPECT_EQ(int(brighter[2]), expectedSrgb8(0.5));       // B 0.25 * 2
+    EXPECT_EQ(int(brighter[7 * 3]), expectedSrgb8(0.36));  // 0.18 * 2
 }
 
 TEST(Png, FailedWriteNamesThePath)
@@ -610,8 +607,7 @@ struct ToolRun {
 
 std::string describe(const ToolRun& r)
 {
-    return "command: " + r.command + "\nstatus: " + std::to_string(r.status) + "\nstderr:\n" + r.err + "\nstdout:\n" +
-           r.out;
+    return "command: " + r.command + "\nstatus: " + std::to_string(r.status) + "\nstderr:\n" + r.err + "\nstdout:\n" + r.out;
 }
 
 /// Runs oas-diff with `args`, stdout and stderr going to files in `dir`.
@@ -637,8 +633,7 @@ ToolRun runDiff(const TempDir& dir, const std::vector<std::string>& args)
         return r;
     }
     int status = 0;
-    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-    }
+    while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
     r.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
     r.out = readBytes(outPath);
     r.err = readBytes(errPath);

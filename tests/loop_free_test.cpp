@@ -35,8 +35,8 @@ struct Push {
     std::uint32_t spp, dims, dimBase, mode, burn;
 };
 
-constexpr std::uint32_t kPixels = 16;        // two lavapipe SIMD groups of 8
-constexpr std::uint32_t kMinValues = 4096;   // per invocation
+constexpr std::uint32_t kPixels = 16;          // two lavapipe SIMD groups of 8
+constexpr std::uint32_t kMinValues = 4096;     // per invocation
 constexpr std::uint32_t kSpareIterations = 8;  // left between the burn and the cap
 
 struct Case {
@@ -87,17 +87,16 @@ const std::vector<Case>& oaCases()
 const std::vector<Case>& baselineCases()
 {
     static const std::vector<Case> cases = {
-        {"random", 4096, 0, ""},        {"jittered2d", 1000, 0, ""}, {"cmj2d", 16777213, 0, "prime N"},
-        {"cmj2d", 256, 0, ""},          {"zerotwo", 16777216, 0, ""}, {"halton", 16777216, 0, "24 base-2 digits"},
-        {"halton", 100, 0, ""},         {"sobol", 16777216, 0, ""},   {"sobol", 121, 0, ""},
+        {"random", 4096, 0, ""}, {"jittered2d", 1000, 0, ""},  {"cmj2d", 16777213, 0, "prime N"},
+        {"cmj2d", 256, 0, ""},   {"zerotwo", 16777216, 0, ""}, {"halton", 16777216, 0, "24 base-2 digits"},
+        {"halton", 100, 0, ""},  {"sobol", 16777216, 0, ""},   {"sobol", 121, 0, ""},
     };
     return cases;
 }
 
 class Runner {
 public:
-    explicit Runner(oas::vk::Context& ctx)
-        : ctx_(ctx), directions_(ctx, oas::sobolDirections().size() * sizeof(std::uint32_t))
+    explicit Runner(oas::vk::Context& ctx) : ctx_(ctx), directions_(ctx, oas::sobolDirections().size() * sizeof(std::uint32_t))
     {
         std::memcpy(directions_.data(), oas::sobolDirections().data(), oas::sobolDirections().size() * sizeof(std::uint32_t));
     }
@@ -119,8 +118,8 @@ public:
     static std::uint32_t samplesFor(std::uint32_t dims) { return (kMinValues + dims - 1) / dims; }
 
     /// Runs one case against `expected` (expectedValues); returns "" or the first mismatch.
-    std::string run(const oas::Pattern& pattern, bool specialized, std::uint32_t mode, std::uint32_t dims,
-                    std::uint32_t dimBase, const std::vector<float>& expected)
+    std::string run(const oas::Pattern& pattern, bool specialized, std::uint32_t mode, std::uint32_t dims, std::uint32_t dimBase,
+                    const std::vector<float>& expected)
     {
         const std::uint32_t spp = samplesFor(dims);
         oas::vk::Buffer samples(ctx_, (expected.size() + kPixels) * sizeof(float));
@@ -131,8 +130,10 @@ public:
         const CalibrationKey calibrationKey{specialized, mode, spp, dims, mode == 0 ? 0u : pattern.N};
         auto known = burns_.find(calibrationKey);
         if (known == burns_.end())
-            known = burns_.emplace(calibrationKey, largestBurn(pipeline(pattern, specialized, true), samples, push, spp, dims, dimBase))
-                        .first;
+            known =
+                burns_
+                    .emplace(calibrationKey, largestBurn(pipeline(pattern, specialized, true), samples, push, spp, dims, dimBase))
+                    .first;
         const std::uint32_t burn = known->second;
         if (burn < kSpareIterations) return "calibration found no burn that lets the loops finish";
         push.burn = burn - kSpareIterations;
@@ -233,9 +234,9 @@ void checkConstructions(oas::vk::Context& ctx, const std::vector<std::string>& s
                 for (bool specialized : {false, true})
                     for (std::uint32_t mode : {0u, 1u}) {
                         const std::string failure = runner.run(pattern, specialized, mode, dims, dimBase, expected);
-                        EXPECT_EQ(failure, "") << oas::describe(pattern) << " [" << c.field << "], dims " << dimBase << ".."
-                                               << dimBase + dims - 1 << (specialized ? ", specialised" : ", unspecialised")
-                                               << (mode ? ", hoisted API" : ", oas_sample");
+                        EXPECT_EQ(failure, "")
+                            << oas::describe(pattern) << " [" << c.field << "], dims " << dimBase << ".." << dimBase + dims - 1
+                            << (specialized ? ", specialised" : ", unspecialised") << (mode ? ", hoisted API" : ", oas_sample");
                     }
                 if (pattern.blockDims <= dims) break;
             }
@@ -244,7 +245,10 @@ void checkConstructions(oas::vk::Context& ctx, const std::vector<std::string>& s
 }
 
 // Two halves of similar cost, so that ctest can run them side by side.
-TEST_F(LoopFree, BoseBoseBushAndCmjndInOneInvocation) { checkConstructions(context(), {"bose", "bose-bush", "cmjnd"}); }
+TEST_F(LoopFree, BoseBoseBushAndCmjndInOneInvocation)
+{
+    checkConstructions(context(), {"bose", "bose-bush", "cmjnd"});
+}
 
 TEST_F(LoopFree, BushAndAddelmanKempthorneInOneInvocation)
 {

@@ -36,17 +36,23 @@ u128 fixedReference(float v)
 {
     if (v == 0.0f) return 0;
     int e = 0;
-    const float m = std::frexp(v, &e);  // v = m * 2^e, m in [0.5, 1)
+    const float m = std::frexp(v, &e);                      // v = m * 2^e, m in [0.5, 1)
     const auto mantissa = u128(std::ldexp(double(m), 24));  // 24-bit integer: v = mantissa * 2^(e - 24)
-    const int shift = e - 24 + 32;                            // v * 2^32 = mantissa * 2^shift
-    if (shift <= -128) return 0;  // (a shift by the width or more is undefined)
+    const int shift = e - 24 + 32;                          // v * 2^32 = mantissa * 2^shift
+    if (shift <= -128) return 0;                            // (a shift by the width or more is undefined)
     return shift >= 0 ? mantissa << shift : mantissa >> -shift;
 }
 
-Words wordsOf(u128 x) { return {std::uint32_t(x), std::uint32_t(x >> 32), std::uint32_t(x >> 64)}; }
+Words wordsOf(u128 x)
+{
+    return {std::uint32_t(x), std::uint32_t(x >> 32), std::uint32_t(x >> 64)};
+}
 
 /// Channel 0 of a PtSum as words.
-Words redWords(const oas::pt::PtSum& s) { return {s.lo.x, s.mid.x, s.hi.x}; }
+Words redWords(const oas::pt::PtSum& s)
+{
+    return {s.lo.x, s.mid.x, s.hi.x};
+}
 
 /// Radiances over the whole summable range: tiny, ordinary, fireflies, up to just below 2^64.
 std::vector<float> wideRadiances(std::size_t n, std::uint32_t seed)
@@ -65,8 +71,8 @@ TEST(ExactSum, WordsAreTheRadianceTimes2To32RoundedDown)
 {
     std::vector<float> values = wideRadiances(200000, 1);
     const float justBelow = std::nextafter(18446744073709551616.0f, 0.0f);
-    for (float v : {0.0f, -0.0f, 1.0f, 0.5f, 3.0f, 1e-10f, 2.3283064e-10f, 1e-45f, 4294967295.0f, 4294967296.0f,
-                    justBelow, std::numeric_limits<float>::min()})
+    for (float v : {0.0f, -0.0f, 1.0f, 0.5f, 3.0f, 1e-10f, 2.3283064e-10f, 1e-45f, 4294967295.0f, 4294967296.0f, justBelow,
+                    std::numeric_limits<float>::min()})
         values.push_back(v);
     for (float v : values) {
         ASSERT_TRUE(oas::pt::pt_summable(glm::vec3(v))) << v;
@@ -171,9 +177,14 @@ oas::render::RenderFile fakeShard(oas::render::SampleRange range, float value = 
     for (std::size_t i = 0; i < 6; ++i)
         for (std::uint32_t k = range.first; k < range.end; ++k) f.sums.addToPixel(i, s.lo, s.mid, s.hi, 1, 0);
     f.ranges = {range};
-    f.attributes = {{"oas.format", oas::render::kRenderFormat}, {"oas.sceneHash", "0123456789abcdef"},
-                    {"oas.resolution", "3x2"}, {"oas.sampler", "bose q=4"}, {"oas.pattern", "00000001"},
-                    {"oas.dimensionPlan", "7D"}, {"oas.seed", "0"}, {"oas.device", "cpu"},
+    f.attributes = {{"oas.format", oas::render::kRenderFormat},
+                    {"oas.sceneHash", "0123456789abcdef"},
+                    {"oas.resolution", "3x2"},
+                    {"oas.sampler", "bose q=4"},
+                    {"oas.pattern", "00000001"},
+                    {"oas.dimensionPlan", "7D"},
+                    {"oas.seed", "0"},
+                    {"oas.device", "cpu"},
                     {"oas.renderTimeSeconds", "1.5"}};
     return f;
 }
@@ -181,7 +192,7 @@ oas::render::RenderFile fakeShard(oas::render::SampleRange range, float value = 
 /// The sums as the UINT channels of the file format (render/render_file.hpp: words in order).
 oas::image::UintChannels sumChannels(const Accumulation& sums)
 {
-    const char* names[] = {"sum.R0", "sum.R1", "sum.R2", "sum.G0", "sum.G1", "sum.G2",
+    const char* names[] = {"sum.R0", "sum.R1", "sum.R2", "sum.G0",      "sum.G1",      "sum.G2",
                            "sum.B0", "sum.B1", "sum.B2", "sum.samples", "sum.rejected"};
     oas::image::UintChannels channels;
     for (std::size_t k = 0; k < 11; ++k)
@@ -226,15 +237,15 @@ TEST(RenderFile, MergeRefusesShardsOfAnotherFrameNamingFileAndField)
         EXPECT_NE(error.find("b.exr: header field " + field), std::string::npos) << error;
         EXPECT_NE(error.find("a.exr"), std::string::npos) << error;
     }
-    const std::string overlap =
-        errorOf([&] { oas::render::mergeRenders({fakeShard({0, 5}), fakeShard({4, 8})}, {"a.exr", "b.exr"}); });
+    const std::string overlap = errorOf([&] {
+        oas::render::mergeRenders({fakeShard({0, 5}), fakeShard({4, 8})}, {"a.exr", "b.exr"});
+    });
     EXPECT_NE(overlap.find("samples 4:8 overlap samples 0:5 of a.exr"), std::string::npos) << overlap;
 }
 
 TEST(RenderFile, MergeAddsSumsJoinsRangesAndTimes)
 {
-    const auto merged =
-        oas::render::mergeRenders({fakeShard({8, 9}), fakeShard({0, 4}), fakeShard({4, 8})}, {"a", "b", "c"});
+    const auto merged = oas::render::mergeRenders({fakeShard({8, 9}), fakeShard({0, 4}), fakeShard({4, 8})}, {"a", "b", "c"});
     EXPECT_EQ(oas::render::formatRanges(merged.ranges), "0:9");
     EXPECT_EQ(merged.sums.words, fakeShard({0, 9}).sums.words);
     EXPECT_EQ(merged.attributes.at("oas.spp"), "9");
@@ -351,10 +362,16 @@ void expectShardsMergeExactly(const std::string& device)
 
 }  // namespace
 
-TEST(MergeCli, ShardsEqualTheWholeRenderOnTheCpu) { expectShardsMergeExactly("cpu"); }
+TEST(MergeCli, ShardsEqualTheWholeRenderOnTheCpu)
+{
+    expectShardsMergeExactly("cpu");
+}
 
 class MergeGpu : public oas::test::GpuTest {};
-TEST_F(MergeGpu, ShardsEqualTheWholeRenderOnTheGpu) { expectShardsMergeExactly("gpu"); }
+TEST_F(MergeGpu, ShardsEqualTheWholeRenderOnTheGpu)
+{
+    expectShardsMergeExactly("gpu");
+}
 
 TEST(MergeCli, RefusesShardsThatDoNotMakeOneFrameAndWritesNothing)
 {
@@ -378,8 +395,7 @@ TEST(MergeCli, RefusesShardsThatDoNotMakeOneFrameAndWritesNothing)
     const std::vector<Case> cases = {
         {"another seed", shard("seed.exr", scene + " --samples 8:16 --seed 7"), "", "header field oas.seed"},
         {"another scene", shard("scene.exr", other + " --samples 8:16"), "", "header field oas.sceneHash"},
-        {"another sampler", shard("sampler.exr", scene + " --samples 8:16 --sampler random"), "",
-         "header field oas.sampler"},
+        {"another sampler", shard("sampler.exr", scene + " --samples 8:16 --sampler random"), "", "header field oas.sampler"},
         {"overlapping samples", shard("overlap.exr", scene + " --samples 7:9"), "", "overlap"},
         {"a gap", shard("gap.exr", scene + " --samples 9:16"), " --expect 0:16", "hold samples 0:8,9:16, not exactly 0:16"},
         {"a truncated EXR", cut, "", "cut.exr"},
@@ -402,9 +418,10 @@ TEST(MergeCli, RefusesShardsThatDoNotMakeOneFrameAndWritesNothing)
     }
     // Without --expect a gap is allowed and reported.
     std::string log;
-    EXPECT_EQ(run(std::string(OAS_MERGE_EXE) + " " + a + " " + (dir / "gap.exr").string() + " -o " +
-                      (dir / "partial.exr").string(), &log),
-              0)
+    EXPECT_EQ(
+        run(std::string(OAS_MERGE_EXE) + " " + a + " " + (dir / "gap.exr").string() + " -o " + (dir / "partial.exr").string(),
+            &log),
+        0)
         << log;
     EXPECT_NE(log.find("samples 0:8,9:16 of 16"), std::string::npos) << log;
     fs::remove_all(dir);
@@ -508,12 +525,13 @@ TEST(MergeCli, AnInterruptedRenderIsAShardThatTheRestCompletes)
     ASSERT_EQ(run(render + " " + rest + " -o " + (dir / "rest.exr").string(), &log), 0) << log;
     ASSERT_EQ(run(render + " -o " + (dir / "whole.exr").string(), &log), 0) << log;
     ASSERT_EQ(run(std::string(OAS_MERGE_EXE) + " " + part + " " + (dir / "rest.exr").string() + " --expect 0:64 -o " +
-                      (dir / "merged.exr").string(), &log),
+                      (dir / "merged.exr").string(),
+                  &log),
               0)
         << log;
-    EXPECT_EQ(run(std::string(OAS_DIFF_EXE) + " --exact " + (dir / "merged.exr").string() + " " +
-                      (dir / "whole.exr").string(), &log),
-              0)
+    EXPECT_EQ(
+        run(std::string(OAS_DIFF_EXE) + " --exact " + (dir / "merged.exr").string() + " " + (dir / "whole.exr").string(), &log),
+        0)
         << log;
     fs::remove_all(dir);
 }

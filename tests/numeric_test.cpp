@@ -15,8 +15,8 @@ using namespace oas::glsl;
 
 std::vector<std::uint32_t> seedsFor(std::uint32_t l)
 {
-    return {0u, 1u, 0xffffffffu, 0xfffffffeu, 0u - l, 0u - l - 1u, 0u - l + 1u, 0x80000000u, 0x7fffffffu,
-            0x9e3779b9u, 0xdeadbeefu};
+    return {0u,          1u,          0xffffffffu, 0xfffffffeu, 0u - l,     0u - l - 1u,
+            0u - l + 1u, 0x80000000u, 0x7fffffffu, 0x9e3779b9u, 0xdeadbeefu};
 }
 
 TEST(Permutation, BijectiveForEveryLengthUpTo4096AndEdgeSeeds)
@@ -68,8 +68,7 @@ TEST(Permutation, EveryInputIsUniformOverSeeds)
         }
         // Each input should land on each output about trials / l times (loose 5-sigma-ish bound).
         const double expected = double(trials) / l;
-        for (std::uint32_t c : counts)
-            EXPECT_NEAR(double(c), expected, 6 * std::sqrt(expected) + 2) << "l " << l;
+        for (std::uint32_t c : counts) EXPECT_NEAR(double(c), expected, 6 * std::sqrt(expected) + 2) << "l " << l;
     }
 }
 
@@ -77,8 +76,8 @@ TEST(MulHi, PortableLimbsEqualThe64BitProduct)
 {
     // The OAS_MULHI fallback for targets without umulExtended must agree everywhere: edge words
     // (carries out of every 16-bit column) and random pairs.
-    std::vector<std::uint32_t> edges = {0u, 1u, 2u, 0xffffu, 0x10000u, 0x10001u, 0x7fffffffu, 0x80000000u,
-                                        0x80000001u, 0xfffeffffu, 0xffff0000u, 0xfffffffeu, 0xffffffffu};
+    std::vector<std::uint32_t> edges = {0u,          1u,          2u,          0xffffu,     0x10000u,    0x10001u,   0x7fffffffu,
+                                        0x80000000u, 0x80000001u, 0xfffeffffu, 0xffff0000u, 0xfffffffeu, 0xffffffffu};
     for (std::uint32_t a : edges)
         for (std::uint32_t b : edges)
             ASSERT_EQ(oas_mulhi_portable(a, b), std::uint32_t((std::uint64_t(a) * b) >> 32)) << a << " * " << b;
@@ -94,16 +93,14 @@ TEST(FastDivision, EqualsHardwareDivision)
     std::mt19937 rng(12345);
     std::vector<std::uint32_t> divisors;
     for (std::uint32_t d = 1; d <= 70000; ++d) divisors.push_back(d);
-    for (std::uint32_t d : {(1u << 24) - 1, 1u << 24, (1u << 24) + 1, 4093u * 4093u, 0x7fffffffu, 0x80000000u,
-                            0xfffffffeu, 0xffffffffu})
+    for (std::uint32_t d :
+         {(1u << 24) - 1, 1u << 24, (1u << 24) + 1, 4093u * 4093u, 0x7fffffffu, 0x80000000u, 0xfffffffeu, 0xffffffffu})
         divisors.push_back(d);
     for (std::uint32_t d : divisors) {
         const oas::Divisor div = oas::makeDivisor(d);
-        auto check = [&](std::uint32_t x) {
-            ASSERT_EQ(oas_fastdiv(x, div.recip, div.shift), x / d) << x << " / " << d;
-        };
-        for (std::uint32_t x : {0u, 1u, d - 1, d, d + 1, 2 * d - 1, 2 * d, 0xffffffffu, 0xfffffffeu, 1u << 24,
-                                (1u << 24) - 1, 0x80000000u})
+        auto check = [&](std::uint32_t x) { ASSERT_EQ(oas_fastdiv(x, div.recip, div.shift), x / d) << x << " / " << d; };
+        for (std::uint32_t x :
+             {0u, 1u, d - 1, d, d + 1, 2 * d - 1, 2 * d, 0xffffffffu, 0xfffffffeu, 1u << 24, (1u << 24) - 1, 0x80000000u})
             check(x);
         for (int i = 0; i < 64; ++i) check(rng());
         for (std::uint32_t m = 1; m < 64 && std::uint64_t(m) * d < 0xffffffffull; ++m) {
@@ -142,8 +139,8 @@ TEST(FixedPoint, StratumPointIsExactForEveryKUpTo2Pow24)
     std::mt19937 rng(777);
     std::vector<std::uint32_t> Ks;
     for (std::uint32_t K = 1; K <= 4096; ++K) Ks.push_back(K);
-    for (std::uint32_t K : {16769025u /* 4095^2 */, 16752649u /* 4093^2 */, (1u << 24) - 1, 1u << 24, 14348907u,
-                            9565938u, 8388608u, 11184810u, 16777213u})
+    for (std::uint32_t K : {16769025u /* 4095^2 */, 16752649u /* 4093^2 */, (1u << 24) - 1, 1u << 24, 14348907u, 9565938u,
+                            8388608u, 11184810u, 16777213u})
         Ks.push_back(K);
     for (int i = 0; i < 2000; ++i) Ks.push_back(1 + rng() % (1u << 24));
     for (std::uint32_t K : Ks) {

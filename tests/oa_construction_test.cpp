@@ -27,22 +27,24 @@ struct OaCase {
     std::uint32_t t;  ///< strength (CMJND: d)
 };
 
-void PrintTo(const OaCase& c, std::ostream* os) { *os << c.sampler << " q=" << c.q << " t=" << c.t; }
+void PrintTo(const OaCase& c, std::ostream* os)
+{
+    *os << c.sampler << " q=" << c.q << " t=" << c.t;
+}
 
 using oas::test::ipow;
 
 std::vector<OaCase> oaCases()
 {
     std::vector<OaCase> cases;
-    for (std::uint32_t q : {2u, 3u, 4u, 5u, 7u, 8u, 9u, 11u, 13u, 16u, 25u, 27u, 32u, 49u, 64u})
-        cases.push_back({"bose", q, 2});
+    for (std::uint32_t q : {2u, 3u, 4u, 5u, 7u, 8u, 9u, 11u, 13u, 16u, 25u, 27u, 32u, 49u, 64u}) cases.push_back({"bose", q, 2});
     for (auto [q, t] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{
              {2, 2}, {3, 3}, {4, 3}, {4, 4}, {5, 3}, {5, 4}, {7, 3}, {8, 3}, {9, 3}, {8, 4}, {16, 3}})
         cases.push_back({"bush", q, t});
     for (std::uint32_t q : {2u, 4u, 8u, 16u, 32u}) cases.push_back({"bose-bush", q, 2});
     for (std::uint32_t q : {3u, 5u, 7u, 9u, 11u, 13u, 25u, 27u}) cases.push_back({"addelman-kempthorne", q, 2});
-    for (auto [s, d] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{
-             {2, 2}, {2, 3}, {2, 5}, {3, 3}, {3, 4}, {5, 3}, {4, 4}, {2, 10}})
+    for (auto [s, d] :
+         std::vector<std::pair<std::uint32_t, std::uint32_t>>{{2, 2}, {2, 3}, {2, 5}, {3, 3}, {3, 4}, {5, 3}, {4, 4}, {2, 10}})
         cases.push_back({"cmjnd", s, d});
     return cases;
 }
@@ -161,8 +163,7 @@ TEST_P(OaConstructionTest, LevelsMatchTextbook)
         ASSERT_EQ(ref[r].size(), lib[r].size());
         for (std::size_t c = 0; c < ref[r].size(); ++c)
             if (ref[r][c] != lib[r][c] && mismatches++ < 5)
-                ADD_FAILURE() << "row " << r << " col " << c << ": library " << lib[r][c] << ", textbook "
-                              << ref[r][c];
+                ADD_FAILURE() << "row " << r << " col " << c << ": library " << lib[r][c] << ", textbook " << ref[r][c];
     }
     EXPECT_EQ(mismatches, 0);
 }
@@ -172,8 +173,7 @@ TEST_P(OaConstructionTest, TextbookArrayIsOrthogonalArray)
     const OaCase& c = GetParam();
     const textbook::Array ref = textbookArray(c, pattern);
     std::string why;
-    EXPECT_TRUE(textbook::isOrthogonalArray(ref, int(c.q), int(c.t), textbook::allColumns(int(expectedColumns(c))), &why))
-        << why;
+    EXPECT_TRUE(textbook::isOrthogonalArray(ref, int(c.q), int(c.t), textbook::allColumns(int(expectedColumns(c))), &why)) << why;
 }
 
 TEST_P(OaConstructionTest, LibraryArrayIsOrthogonalArray)
@@ -185,8 +185,7 @@ TEST_P(OaConstructionTest, LibraryArrayIsOrthogonalArray)
         << why;
     // Strength t implies every lower strength.
     for (std::uint32_t t = 1; t < pattern.strength; ++t)
-        EXPECT_TRUE(textbook::isOrthogonalArray(lib, int(pattern.s), int(t),
-                                                textbook::allColumns(int(pattern.blockDims)), &why))
+        EXPECT_TRUE(textbook::isOrthogonalArray(lib, int(pattern.s), int(t), textbook::allColumns(int(pattern.blockDims)), &why))
             << "t = " << t << ": " << why;
 }
 

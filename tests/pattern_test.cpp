@@ -32,15 +32,16 @@ using Fields = std::vector<std::pair<std::string, std::string>>;  // (type, name
 
 // The field names once more, in layout order, only so that the compiler can check offsets: the
 // test below fails unless this list equals both parsed sources, so it cannot fall behind them.
-#define OAS_TEST_PATTERN_FIELDS(X)                                                                  \
-    X(construction) X(offset) X(N) X(s) X(strength) X(blockDims) X(fieldP) X(fieldK) X(fieldQ)    \
-    X(fieldPoly) X(aux) X(aux2) X(recipS) X(recipP) X(recipN) X(recipShifts)
+#define OAS_TEST_PATTERN_FIELDS(X)                                                                                               \
+    X(construction)                                                                                                              \
+    X(offset) X(N) X(s) X(strength) X(blockDims) X(fieldP) X(fieldK) X(fieldQ) X(fieldPoly) X(aux) X(aux2) X(recipS) X(recipP)   \
+        X(recipN) X(recipShifts)
 
 // oas::glsl::OasPattern is the GLSL struct itself, compiled as C++ (glsl_compat.hpp); with uint
 // members only, its C++ layout is std430's (4-byte words, no padding).
-#define OAS_TEST_SAME_OFFSET(f)                                                                     \
-    static_assert(offsetof(OasPattern, f) == offsetof(oas::glsl::OasPattern, f), #f);              \
-    static_assert(offsetof(OasPattern, f) == offsetof(oas::Pattern, f), #f);                       \
+#define OAS_TEST_SAME_OFFSET(f)                                                                                                  \
+    static_assert(offsetof(OasPattern, f) == offsetof(oas::glsl::OasPattern, f), #f);                                            \
+    static_assert(offsetof(OasPattern, f) == offsetof(oas::Pattern, f), #f);                                                     \
     static_assert(sizeof(OasPattern::f) == 4 && sizeof(oas::glsl::OasPattern::f) == 4, #f);
 OAS_TEST_PATTERN_FIELDS(OAS_TEST_SAME_OFFSET)
 #undef OAS_TEST_SAME_OFFSET
@@ -132,12 +133,11 @@ TEST(PatternLayout, PatternIsTheCStructWordForWord)
 
 // The GLSL library restates the C header's codes and block sizes (GLSL cannot include C); the
 // compiled GLSL must agree with the header, value for value.
-static_assert(oas::glsl::OAS_BOSE == OAS_BOSE && oas::glsl::OAS_BUSH == OAS_BUSH &&
-              oas::glsl::OAS_BOSE_BUSH == OAS_BOSE_BUSH && oas::glsl::OAS_ADDELMAN_KEMPTHORNE == OAS_ADDELMAN_KEMPTHORNE &&
-              oas::glsl::OAS_CMJND == OAS_CMJND && oas::glsl::OAS_RANDOM == OAS_RANDOM &&
-              oas::glsl::OAS_JITTERED_2D == OAS_JITTERED_2D && oas::glsl::OAS_CMJ_2D == OAS_CMJ_2D &&
-              oas::glsl::OAS_ZERO_TWO == OAS_ZERO_TWO && oas::glsl::OAS_HALTON == OAS_HALTON &&
-              oas::glsl::OAS_SOBOL == OAS_SOBOL);
+static_assert(oas::glsl::OAS_BOSE == OAS_BOSE && oas::glsl::OAS_BUSH == OAS_BUSH && oas::glsl::OAS_BOSE_BUSH == OAS_BOSE_BUSH &&
+              oas::glsl::OAS_ADDELMAN_KEMPTHORNE == OAS_ADDELMAN_KEMPTHORNE && oas::glsl::OAS_CMJND == OAS_CMJND &&
+              oas::glsl::OAS_RANDOM == OAS_RANDOM && oas::glsl::OAS_JITTERED_2D == OAS_JITTERED_2D &&
+              oas::glsl::OAS_CMJ_2D == OAS_CMJ_2D && oas::glsl::OAS_ZERO_TWO == OAS_ZERO_TWO &&
+              oas::glsl::OAS_HALTON == OAS_HALTON && oas::glsl::OAS_SOBOL == OAS_SOBOL);
 static_assert(oas::glsl::OAS_OFFSET_CENTERED == OAS_OFFSET_CENTERED && oas::glsl::OAS_OFFSET_J == OAS_OFFSET_J &&
               oas::glsl::OAS_OFFSET_MJ == OAS_OFFSET_MJ && oas::glsl::OAS_OFFSET_CMJ == OAS_OFFSET_CMJ);
 static_assert(oas::glsl::OAS_HALTON_BLOCK == OAS_HALTON_BLOCK_DIMS, "shaders/oas/oas_baselines.glsl's Halton block");

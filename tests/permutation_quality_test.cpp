@@ -142,8 +142,8 @@ TEST(PermutationQuality, LibraryRandomizationMatchesUniformPermutationsInMse)
                 // (+ 1e-3: centered offsets on 2-additive integrands give one point set whatever the
                 // permutations, so the spread is 0 and only the float placement differs.)
                 EXPECT_NEAR(ratio, 1.0, 4.5 * se + 1e-3)
-                    << c.sampler << " N=" << pattern.N << " " << offset << ", " << f.name() << ": MSE ours " << a.value
-                    << " +- " << a.standardError << ", uniform " << b.value << " +- " << b.standardError;
+                    << c.sampler << " N=" << pattern.N << " " << offset << ", " << f.name() << ": MSE ours " << a.value << " +- "
+                    << a.standardError << ", uniform " << b.value << " +- " << b.standardError;
                 worst = std::max(worst, std::abs(ratio - 1.0) / (se + 1e-300));
                 std::printf("%-20s N=%-4u %-8s %-32s MSE ratio ours/uniform %.3f +- %.3f\n", c.sampler.c_str(), pattern.N,
                             offset.c_str(), f.name().c_str(), ratio, se);

@@ -49,8 +49,10 @@ std::vector<Block> snippetsOf(const std::string& readme, const std::string& sect
     int number = 0;
     for (const auto& line : lines(readme)) {
         ++number;
-        if (section.empty()) inSection = true;
-        else if (!inBlock && line.rfind("## ", 0) == 0) inSection = line == section;
+        if (section.empty())
+            inSection = true;
+        else if (!inBlock && line.rfind("## ", 0) == 0)
+            inSection = line == section;
         if (!inSection) continue;
         if (line.rfind("```", 0) == 0) {
             if (inBlock) {
@@ -70,9 +72,10 @@ std::set<std::string> testedLines()
 {
     const std::string root = OAS_SOURCE_DIR;
     std::set<std::string> tested;
-    for (const char* file : {"/examples/consumer-find-package/CMakeLists.txt", "/examples/consumer-add-subdirectory/CMakeLists.txt",
-                             "/examples/consumer-fetchcontent/CMakeLists.txt", "/examples/common/consumer.cmake",
-                             "/examples/common/consumer.comp", "/tests/c/pattern_c_test.c"}) {
+    for (const char* file :
+         {"/examples/consumer-find-package/CMakeLists.txt", "/examples/consumer-add-subdirectory/CMakeLists.txt",
+          "/examples/consumer-fetchcontent/CMakeLists.txt", "/examples/common/consumer.cmake", "/examples/common/consumer.comp",
+          "/tests/c/pattern_c_test.c"}) {
         const auto fileLines = lines(readFile(root + file));
         EXPECT_FALSE(fileLines.empty()) << file;
         tested.insert(fileLines.begin(), fileLines.end());
@@ -99,7 +102,8 @@ std::set<std::string> expectSnippetsAreTested(const std::vector<Block>& blocks, 
 
 TEST(Readme, UseItInYourRendererShowsTheTestedCode)
 {
-    const std::vector<Block> blocks = snippetsOf(readFile(std::string(OAS_SOURCE_DIR) + "/README.md"), "## Use it in your renderer");
+    const std::vector<Block> blocks =
+        snippetsOf(readFile(std::string(OAS_SOURCE_DIR) + "/README.md"), "## Use it in your renderer");
     ASSERT_GE(blocks.size(), 3u) << "the section or its code blocks are missing";
     EXPECT_EQ(expectSnippetsAreTested(blocks, "README.md"), (std::set<std::string>{"cmake", "glsl", "c"}));
 }
@@ -114,8 +118,9 @@ TEST(Readme, EmbeddingGuideShowsTheTestedCode)
 TEST(Readme, TheCheckCatchesADriftedLine)
 {
     // Negative control: a snippet line that is not in a tested file is found.
-    const auto blocks = snippetsOf("## Use it in your renderer\n```cmake\nfind_package(oas 9.9 REQUIRED)\n```\n## Next\n```c\nx\n```\n",
-                                   "## Use it in your renderer");
+    const auto blocks =
+        snippetsOf("## Use it in your renderer\n```cmake\nfind_package(oas 9.9 REQUIRED)\n```\n## Next\n```c\nx\n```\n",
+                   "## Use it in your renderer");
     ASSERT_EQ(blocks.size(), 1u);
     EXPECT_EQ(blocks[0].lines, std::vector<std::string>{"find_package(oas 9.9 REQUIRED)"});
 }

@@ -31,7 +31,10 @@ namespace {
 
 using namespace oas;
 
-scene::Scene loadTestScene(const std::string& name) { return scene::loadScene(std::string(OAS_SCENES_DIR) + "/" + name); }
+scene::Scene loadTestScene(const std::string& name)
+{
+    return scene::loadScene(std::string(OAS_SCENES_DIR) + "/" + name);
+}
 
 Pattern patternFor(const scene::Scene& s, const render::DimensionPlan& plan, std::uint32_t spp, const std::string& sampler = "oa")
 {
@@ -152,8 +155,10 @@ TEST(Render, ShadingPointsInTheLightsPlaneGiveFiniteRadiance)
     for (const float z : {0.0f, 0.25f, -0.7f})
         for (std::uint32_t i = 0; i < 256; ++i) {
             const glm::vec3 l = render::nextEventCpu(data, plan, pattern, 9, i, 1, 0, glm::vec3(0, 1.5f, z), n, wo);
-            if (!std::isfinite(l.x) || !std::isfinite(l.y) || !std::isfinite(l.z)) ++nonFinite;
-            else EXPECT_EQ(l, glm::vec3(0.0f)) << "an edge-on light gives nothing";
+            if (!std::isfinite(l.x) || !std::isfinite(l.y) || !std::isfinite(l.z))
+                ++nonFinite;
+            else
+                EXPECT_EQ(l, glm::vec3(0.0f)) << "an edge-on light gives nothing";
         }
     EXPECT_EQ(nonFinite, 0u) << "of 768 light samples at points in the light's plane";
     // The whole render of the scene: no sample is lost.
@@ -268,8 +273,8 @@ TEST(Render, ForEachBatchCoversEveryPixelAndSampleOnce)
     EXPECT_EQ(done, spp);
     EXPECT_EQ(passEnds, (std::vector<std::uint32_t>{3, 6, 9, 10}));
     for (auto v : visits) ASSERT_EQ(v, 1u);
-    const std::uint32_t stopped =
-        render::forEachBatch(8, 8, spp, 4, 0, [](const render::SampleBatch&) {}, [](std::uint32_t) { return false; });
+    const std::uint32_t stopped = render::forEachBatch(
+        8, 8, spp, 4, 0, [](const render::SampleBatch&) {}, [](std::uint32_t) { return false; });
     EXPECT_EQ(stopped, 4u);
 }
 
@@ -328,9 +333,9 @@ TEST(DimensionPlan, TheSevenDimensionalSceneAndRemovingEffects)
 TEST(DimensionPlan, EveryScenesIntegrandDimension)
 {
     // The scenes mirror the paper's integrands: 7D Cornell box, 9D blue spheres, a deep interior.
-    const std::vector<std::pair<std::string, std::uint32_t>> expected = {
-        {"cornell7d.json", 7}, {"blue_spheres9d.json", 9}, {"interior_deep.json", 41},
-        {"furnace.json", 8},   {"plane_rect_light.json", 4}, {"mesh_demo.json", 22}};
+    const std::vector<std::pair<std::string, std::uint32_t>> expected = {{"cornell7d.json", 7},        {"blue_spheres9d.json", 9},
+                                                                         {"interior_deep.json", 41},   {"furnace.json", 8},
+                                                                         {"plane_rect_light.json", 4}, {"mesh_demo.json", 22}};
     for (const auto& [name, dims] : expected) {
         const auto plan = render::planDimensions(loadTestScene(name));
         EXPECT_EQ(plan.usedDims, dims) << name << ": " << plan.explain();
@@ -498,8 +503,8 @@ TEST(RenderCli, StopSignalsWriteTheImageAccumulatedSoFar)
     // closed terminal): stop after the current pass, write the image with its real spp, exit 128 +
     // the signal. Before, SIGTERM and SIGHUP lost the whole render.
     for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
-        const auto dir = std::filesystem::temp_directory_path() /
-                         ("oas_render_int_" + std::to_string(::getpid()) + "_" + std::to_string(sig));
+        const auto dir =
+            std::filesystem::temp_directory_path() / ("oas_render_int_" + std::to_string(::getpid()) + "_" + std::to_string(sig));
         std::filesystem::create_directories(dir);
         const std::string out = (dir / "partial.exr").string();
         const std::string scenePath = std::string(OAS_SCENES_DIR) + "/furnace.json";
@@ -559,9 +564,12 @@ TEST(RenderCli, OutputNamesStayWhereTheUserSaid)
     std::ifstream in(std::string(OAS_SCENES_DIR) + "/furnace.json");
     const nlohmann::json furnace = nlohmann::json::parse(in);
     const std::vector<std::pair<std::string, std::string>> names = {
-        {"../../escaped", "_.._escaped"}, {std::string("a\0b", 3), "a_b"}, {"/abs/olute", "_abs_olute"},
+        {"../../escaped", "_.._escaped"},
+        {std::string("a\0b", 3), "a_b"},
+        {"/abs/olute", "_abs_olute"},
         {"..", "scene3"},  // nothing left after the dots: the scene file's stem
-        {".hidden", "hidden"}, {"spaces and ü", "spaces_and___"}};
+        {".hidden", "hidden"},
+        {"spaces and ü", "spaces_and___"}};
     for (std::size_t i = 0; i < names.size(); ++i) {
         nlohmann::json j = furnace;
         j["name"] = names[i].first;
@@ -619,7 +627,8 @@ TEST(RenderCli, FuzzerFindingsExitWithAMessageNamingTheScene)
 std::pair<int, std::string> runRenderStderr(const std::string& args)
 {
     const auto errFile = std::filesystem::temp_directory_path() / ("oas_render_err_" + std::to_string(::getpid()));
-    const int status = std::system((std::string(OAS_RENDER_EXE) + " " + args + " >/dev/null 2>'" + errFile.string() + "'").c_str());
+    const int status =
+        std::system((std::string(OAS_RENDER_EXE) + " " + args + " >/dev/null 2>'" + errFile.string() + "'").c_str());
     std::ifstream in(errFile);
     std::string err((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     std::filesystem::remove(errFile);
@@ -688,17 +697,17 @@ TEST(RenderCli, ScenesWithoutLightWarnAndStillRender)
         if (shape.contains("material") && shape["material"] == "light") shape["material"] = "white";
     const std::string scene = (dir / "dark.json").string();
     std::ofstream(scene) << j.dump();
-    const auto [status, err] = runRenderStderr(scene + " --device cpu --spp 4 --resolution 8x8 -o '" +
-                                               (dir / "dark.exr").string() + "'");
+    const auto [status, err] =
+        runRenderStderr(scene + " --device cpu --spp 4 --resolution 8x8 -o '" + (dir / "dark.exr").string() + "'");
     EXPECT_EQ(status, 0) << err;
     EXPECT_NE(err.find("oas-render: warning: " + scene + ": the scene has no light"), std::string::npos) << err;
     const auto dark = render::readRenderFile((dir / "dark.exr").string());
     for (float v : dark.sums.image().rgba) ASSERT_TRUE(v == 0.0f || v == 1.0f);  // black, alpha 1
     // The scenes that have light say nothing of the kind.
     for (const char* lit : {"cornell7d.json", "furnace.json"}) {
-        const auto [litStatus, litErr] = runRenderStderr(std::string(OAS_SCENES_DIR) + "/" + lit +
-                                                         " --device cpu --spp 4 --resolution 4x4 -o '" +
-                                                         (dir / "lit.exr").string() + "'");
+        const auto [litStatus, litErr] =
+            runRenderStderr(std::string(OAS_SCENES_DIR) + "/" + lit + " --device cpu --spp 4 --resolution 4x4 -o '" +
+                            (dir / "lit.exr").string() + "'");
         EXPECT_EQ(litStatus, 0) << litErr;
         EXPECT_EQ(litErr.find("warning"), std::string::npos) << lit << ": " << litErr;
     }
@@ -712,8 +721,8 @@ TEST(RenderCli, ScenesWithoutLightWarnAndStillRender)
 void checkCropWindow(const std::string& device, const std::string& extra = "")
 {
     const auto dir = freshDir("oas_render_crop_" + device);
-    const std::string scene = std::string(OAS_SCENES_DIR) + "/cornell7d.json --resolution 24x16 --spp 8 --device " +
-                              device + " " + extra + " ";
+    const std::string scene =
+        std::string(OAS_SCENES_DIR) + "/cornell7d.json --resolution 24x16 --spp 8 --device " + device + " " + extra + " ";
     const auto renderTo = [&](const std::string& name, const std::string& args) {
         const auto [status, err] = runRenderStderr(scene + args + " -o '" + (dir / name).string() + "'");
         EXPECT_EQ(status, 0) << args << "\n" << err;
@@ -744,7 +753,10 @@ void checkCropWindow(const std::string& device, const std::string& extra = "")
     std::filesystem::remove_all(dir);
 }
 
-TEST(RenderCli, CropWindowHoldsTheWholeFramesPixelsBitForBitOnTheCpu) { checkCropWindow("cpu"); }
+TEST(RenderCli, CropWindowHoldsTheWholeFramesPixelsBitForBitOnTheCpu)
+{
+    checkCropWindow("cpu");
+}
 
 TEST(RenderCli, AnyThreadCountGivesTheSameFile)
 {
@@ -752,8 +764,10 @@ TEST(RenderCli, AnyThreadCountGivesTheSameFile)
     std::vector<std::uint32_t> first;
     for (const char* threads : {"1", "3", "0"}) {
         const std::string out = (dir / (std::string("t") + threads + ".exr")).string();
-        const auto [status, err] = runRenderStderr(std::string(OAS_SCENES_DIR) + "/cornell7d.json --device cpu "
-                                                   "--resolution 20x13 --spp 9 --threads " + threads + " -o '" + out + "'");
+        const auto [status, err] = runRenderStderr(std::string(OAS_SCENES_DIR) +
+                                                   "/cornell7d.json --device cpu "
+                                                   "--resolution 20x13 --spp 9 --threads " +
+                                                   threads + " -o '" + out + "'");
         ASSERT_EQ(status, 0) << err;
         const auto words = render::readRenderFile(out).sums.words;
         if (first.empty()) first = words;
@@ -778,9 +792,8 @@ TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
     j["sampler"] = {{"name", "random"}, {"spp", 1}};
     std::ofstream(dir / "huge.json") << j.dump();
     const std::string err = (dir / "err.txt").string();
-    const std::string command = "ulimit -v 1048576; exec " + std::string(OAS_RENDER_EXE) + " '" +
-                                (dir / "huge.json").string() + "' --device cpu --spp 1 -o '" +
-                                (dir / "huge.exr").string() + "' 2>'" + err + "' >/dev/null";
+    const std::string command = "ulimit -v 1048576; exec " + std::string(OAS_RENDER_EXE) + " '" + (dir / "huge.json").string() +
+                                "' --device cpu --spp 1 -o '" + (dir / "huge.exr").string() + "' 2>'" + err + "' >/dev/null";
     const int status = std::system(command.c_str());
     ASSERT_TRUE(WIFEXITED(status));
     EXPECT_EQ(WEXITSTATUS(status), 1);
@@ -797,7 +810,10 @@ TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
 
 // The CLI on the Vulkan device (lavapipe unless chosen): the same crop property on the GPU. The
 // fixture skips visibly without a device.
-TEST_F(RenderGpu, CliCropWindowHoldsTheWholeFramesPixelsBitForBit) { checkCropWindow("gpu"); }
+TEST_F(RenderGpu, CliCropWindowHoldsTheWholeFramesPixelsBitForBit)
+{
+    checkCropWindow("gpu");
+}
 
 }  // namespace
 

@@ -24,14 +24,35 @@ struct Config {
 
 std::vector<Config> smallConfigs()
 {
-    return {{"bose", 4, 0},        {"bose", 9, 0},       {"bose", 16, 0},      {"bose", 25, 0},
-            {"bose", 49, 0},       {"bose", 64, 0},      {"bose", 81, 0},      {"bose", 121, 0},
-            {"bush", 9, 2},        {"bush", 27, 3},      {"bush", 64, 3},      {"bush", 125, 3},
-            {"bush", 256, 4},      {"bush", 625, 4},     {"bush", 512, 3},     {"bose-bush", 8, 0},
-            {"bose-bush", 32, 0},  {"bose-bush", 128, 0}, {"addelman-kempthorne", 18, 0},
-            {"addelman-kempthorne", 50, 0}, {"addelman-kempthorne", 98, 0}, {"addelman-kempthorne", 162, 0},
-            {"cmjnd", 4, 2},       {"cmjnd", 8, 3},      {"cmjnd", 27, 3},     {"cmjnd", 81, 4},
-            {"cmjnd", 32, 5},      {"cmjnd", 25, 2},     {"cmjnd", 216, 3}};
+    return {{"bose", 4, 0},
+            {"bose", 9, 0},
+            {"bose", 16, 0},
+            {"bose", 25, 0},
+            {"bose", 49, 0},
+            {"bose", 64, 0},
+            {"bose", 81, 0},
+            {"bose", 121, 0},
+            {"bush", 9, 2},
+            {"bush", 27, 3},
+            {"bush", 64, 3},
+            {"bush", 125, 3},
+            {"bush", 256, 4},
+            {"bush", 625, 4},
+            {"bush", 512, 3},
+            {"bose-bush", 8, 0},
+            {"bose-bush", 32, 0},
+            {"bose-bush", 128, 0},
+            {"addelman-kempthorne", 18, 0},
+            {"addelman-kempthorne", 50, 0},
+            {"addelman-kempthorne", 98, 0},
+            {"addelman-kempthorne", 162, 0},
+            {"cmjnd", 4, 2},
+            {"cmjnd", 8, 3},
+            {"cmjnd", 27, 3},
+            {"cmjnd", 81, 4},
+            {"cmjnd", 32, 5},
+            {"cmjnd", 25, 2},
+            {"cmjnd", 216, 3}};
 }
 
 oas::Pattern patternOf(const Config& c, const char* offset)
@@ -39,8 +60,8 @@ oas::Pattern patternOf(const Config& c, const char* offset)
     return oas::test::patternOf({c.sampler, c.spp, c.strength}, offset);
 }
 
-std::vector<float> points(const oas::Pattern& p, std::uint32_t dims, std::uint32_t x, std::uint32_t y,
-                          std::uint32_t seed, std::uint32_t firstSample = 0)
+std::vector<float> points(const oas::Pattern& p, std::uint32_t dims, std::uint32_t x, std::uint32_t y, std::uint32_t seed,
+                          std::uint32_t firstSample = 0)
 {
     oas::SampleRequest r;
     r.x0 = x;
@@ -55,8 +76,8 @@ std::vector<float> points(const oas::Pattern& p, std::uint32_t dims, std::uint32
 }
 
 /// Every t-subset of columns in [lo, hi) stratified into s^t cells (exhaustive).
-void expectStrength(const std::vector<float>& pts, const oas::Pattern& p, std::uint32_t dims, std::uint32_t lo,
-                    std::uint32_t hi, const std::string& what)
+void expectStrength(const std::vector<float>& pts, const oas::Pattern& p, std::uint32_t dims, std::uint32_t lo, std::uint32_t hi,
+                    const std::string& what)
 {
     const std::uint32_t t = p.strength;
     if (hi - lo < t) return;
@@ -82,14 +103,13 @@ TEST(Stratification, EveryTSubsetOfEveryBlockForEveryOffset)
                 // Pass 0 and pass 1 (indices N .. 2N-1) are each a complete randomized OA.
                 for (std::uint32_t pass = 0; pass < 2; ++pass) {
                     const auto pts = points(p, dims, 16383 - pixel, pixel * 7, 0xfffffff0u + pixel, pass * p.N);
-                    const std::string what = oas::describe(p) + " pixel " + std::to_string(pixel) + " pass " +
-                                             std::to_string(pass);
+                    const std::string what =
+                        oas::describe(p) + " pixel " + std::to_string(pixel) + " pass " + std::to_string(pass);
                     for (std::uint32_t lo = 0; lo < dims; lo += p.blockDims)
                         expectStrength(pts, p, dims, lo, std::min(dims, lo + p.blockDims), what);
                     const bool lhs = std::string(offset) == "mj" || std::string(offset) == "cmj";
                     for (std::uint32_t d = 0; d < dims; ++d)
-                        ASSERT_TRUE(oas::isStratified(pts.data(), p.N, dims, {d}, lhs ? p.N : p.s))
-                            << what << " 1D dim " << d;
+                        ASSERT_TRUE(oas::isStratified(pts.data(), p.N, dims, {d}, lhs ? p.N : p.s)) << what << " 1D dim " << d;
                 }
             }
         }

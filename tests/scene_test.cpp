@@ -91,7 +91,10 @@ std::string errorOf(const std::function<void()>& f)
     return "NO EXCEPTION";
 }
 
-bool contains(const std::string& haystack, const std::string& needle) { return haystack.find(needle) != std::string::npos; }
+bool contains(const std::string& haystack, const std::string& needle)
+{
+    return haystack.find(needle) != std::string::npos;
+}
 
 glm::vec3 normalOf(const Shape& s)
 {
@@ -124,8 +127,8 @@ TEST(Scenes, EveryShippedSceneLoads)
         EXPECT_FALSE(summary(scene).empty());
         names.push_back(entry.path().filename().string());
     }
-    for (const char* required : {"cornell7d.json", "blue_spheres9d.json", "interior_deep.json", "mesh_demo.json",
-                                 "furnace.json", "plane_rect_light.json"})
+    for (const char* required : {"cornell7d.json", "blue_spheres9d.json", "interior_deep.json", "mesh_demo.json", "furnace.json",
+                                 "plane_rect_light.json"})
         EXPECT_NE(std::find(names.begin(), names.end(), required), names.end()) << required;
 }
 
@@ -208,7 +211,8 @@ TEST(Scenes, DerivedFlagsOfEveryScene)
         EXPECT_EQ(s.integrator.maxDepth, 3u);  // no NEE: the third vertex only collects emission
         EXPECT_FALSE(s.integrator.nextEventEstimation);
         EXPECT_FALSE(s.integrator.mis);
-        EXPECT_GE(std::count_if(s.shapes.begin(), s.shapes.end(), [](const Shape& x) { return x.type == Shape::Type::Sphere; }), 4);
+        EXPECT_GE(std::count_if(s.shapes.begin(), s.shapes.end(), [](const Shape& x) { return x.type == Shape::Type::Sphere; }),
+                  4);
     }
     {
         const Scene s = loadScene(kScenes / "interior_deep.json");
@@ -398,135 +402,282 @@ namespace {
 
 struct BadCase {
     const char* what;
-    std::function<void(json&)> edit;   // applied to baseScene()
-    const char* raw;                   // when set, replaces the string "@RAW@" in the dumped text
-    const char* path;                  // expected "file: <path>:" in the message
-    std::vector<std::string> expect;   // further substrings (the value, the valid range)
+    std::function<void(json&)> edit;  // applied to baseScene()
+    const char* raw;                  // when set, replaces the string "@RAW@" in the dumped text
+    const char* path;                 // expected "file: <path>:" in the message
+    std::vector<std::string> expect;  // further substrings (the value, the valid range)
 };
 
 std::vector<BadCase> badCases()
 {
     auto set = [](std::function<void(json&)> f) { return f; };
     return {
-        {"unknown top-level key", set([](json& j) { j["resolutoin"] = {8, 8}; }), nullptr, "resolutoin",
+        {"unknown top-level key",
+         set([](json& j) {
+             j["resolutoin"] = {8, 8};
+         }),
+         nullptr,
+         "resolutoin",
          {"unknown key", "did you mean \"resolution\"", "valid keys"}},
-        {"unknown shape key", set([](json& j) { j["shapes"][0]["raduis"] = 1; }), nullptr, "shapes[0].raduis",
+        {"unknown shape key",
+         set([](json& j) { j["shapes"][0]["raduis"] = 1; }),
+         nullptr,
+         "shapes[0].raduis",
          {"unknown key", "did you mean \"radius\"", "center, radius"}},
-        {"key of another material type", set([](json& j) { j["materials"][0]["roughness"] = 0.1; }), nullptr,
-         "materials[0].roughness", {"unknown key", "diffuse", "valid keys"}},
-        {"number given as a string", set([](json& j) { j["shapes"][0]["radius"] = "1.0"; }), nullptr,
-         "shapes[0].radius", {"expected a number", "string \"1.0\""}},
-        {"boolean for a number", set([](json& j) { j["camera"]["fovY"] = true; }), nullptr, "camera.fovY",
+        {"key of another material type",
+         set([](json& j) { j["materials"][0]["roughness"] = 0.1; }),
+         nullptr,
+         "materials[0].roughness",
+         {"unknown key", "diffuse", "valid keys"}},
+        {"number given as a string",
+         set([](json& j) { j["shapes"][0]["radius"] = "1.0"; }),
+         nullptr,
+         "shapes[0].radius",
+         {"expected a number", "string \"1.0\""}},
+        {"boolean for a number",
+         set([](json& j) { j["camera"]["fovY"] = true; }),
+         nullptr,
+         "camera.fovY",
          {"expected a number", "true"}},
-        {"fraction for an integer", set([](json& j) { j["resolution"][0] = 64.5; }), nullptr, "resolution[0]",
+        {"fraction for an integer",
+         set([](json& j) { j["resolution"][0] = 64.5; }),
+         nullptr,
+         "resolution[0]",
          {"expected an integer", "64.5", "1 .. 16384"}},
-        {"vector of the wrong size", set([](json& j) { j["shapes"][0]["center"] = {0, 0}; }), nullptr,
-         "shapes[0].center", {"[0,0]", "3 finite numbers"}},
+        {"vector of the wrong size",
+         set([](json& j) {
+             j["shapes"][0]["center"] = {0, 0};
+         }),
+         nullptr,
+         "shapes[0].center",
+         {"[0,0]", "3 finite numbers"}},
         {"infinite radius", nullptr, "1e999", "shapes[0].radius", {"1e999", "finite"}},
         {"infinite vector component", nullptr, "[0, -1e999, 5]", "camera.position[1]", {"1e999", "finite"}},
         {"beyond float range", nullptr, "1e39", "shapes[0].radius", {"1e+39", "3.4e38"}},
-        {"negative radius", set([](json& j) { j["shapes"][0]["radius"] = -1; }), nullptr, "shapes[0].radius",
+        {"negative radius",
+         set([](json& j) { j["shapes"][0]["radius"] = -1; }),
+         nullptr,
+         "shapes[0].radius",
          {"-1", "valid > 0"}},
-        {"zero radius", set([](json& j) { j["shapes"][0]["radius"] = 0; }), nullptr, "shapes[0].radius",
+        {"zero radius",
+         set([](json& j) { j["shapes"][0]["radius"] = 0; }),
+         nullptr,
+         "shapes[0].radius",
          {"0 is out of range", "valid > 0"}},
-        {"zero-area quad light", set([](json& j) { j["shapes"][1]["edgeV"] = {4, 0, 0}; }), nullptr,
-         "shapes[1].edgeV", {"zero-area area light", "[4, 0, 0]", "area > 0"}},
-        {"zero-area triangle light", set([](json& j) {
-             j["shapes"][1] = json::parse(
-                 R"({"type": "triangle", "material": "lamp", "p0": [0, 3, 0], "p1": [1, 3, 0], "p2": [2, 3, 0]})");
+        {"zero-area quad light",
+         set([](json& j) {
+             j["shapes"][1]["edgeV"] = {4, 0, 0};
          }),
-         nullptr, "shapes[1]", {"zero-area area light", "[2, 3, 0]", "area > 0"}},
+         nullptr,
+         "shapes[1].edgeV",
+         {"zero-area area light", "[4, 0, 0]", "area > 0"}},
+        {"zero-area triangle light",
+         set([](json& j) {
+             j["shapes"][1] =
+                 json::parse(R"({"type": "triangle", "material": "lamp", "p0": [0, 3, 0], "p1": [1, 3, 0], "p2": [2, 3, 0]})");
+         }),
+         nullptr,
+         "shapes[1]",
+         {"zero-area area light", "[2, 3, 0]", "area > 0"}},
         {"zero width", set([](json& j) { j["resolution"][0] = 0; }), nullptr, "resolution[0]", {"0", "1 .. 16384"}},
-        {"absurd height", set([](json& j) { j["resolution"][1] = 16385; }), nullptr, "resolution[1]",
-         {"16385", "1 .. 16384"}},
+        {"absurd height", set([](json& j) { j["resolution"][1] = 16385; }), nullptr, "resolution[1]", {"16385", "1 .. 16384"}},
         {"negative width", set([](json& j) { j["resolution"][0] = -4; }), nullptr, "resolution[0]", {"-4", "1 .. 16384"}},
         {"zero spp", set([](json& j) { j["sampler"]["spp"] = 0; }), nullptr, "sampler.spp", {"0", "1 .. 16777216"}},
-        {"absurd spp", set([](json& j) { j["sampler"]["spp"] = 16777217; }), nullptr, "sampler.spp",
+        {"absurd spp",
+         set([](json& j) { j["sampler"]["spp"] = 16777217; }),
+         nullptr,
+         "sampler.spp",
          {"16777217", "1 .. 16777216"}},
-        {"undefined material", set([](json& j) { j["shapes"][0]["material"] = "gold"; }), nullptr,
-         "shapes[0].material", {"\"gold\" is not defined", "\"white\", \"lamp\""}},
-        {"missing required field", set([](json& j) { j["shapes"][0].erase("radius"); }), nullptr, "shapes[0].radius",
+        {"undefined material",
+         set([](json& j) { j["shapes"][0]["material"] = "gold"; }),
+         nullptr,
+         "shapes[0].material",
+         {"\"gold\" is not defined", "\"white\", \"lamp\""}},
+        {"missing required field",
+         set([](json& j) { j["shapes"][0].erase("radius"); }),
+         nullptr,
+         "shapes[0].radius",
          {"missing", "valid > 0"}},
         {"missing camera", set([](json& j) { j.erase("camera"); }), nullptr, "camera", {"missing"}},
-        {"unknown shape type", set([](json& j) { j["shapes"][0]["type"] = "cube"; }), nullptr, "shapes[0].type",
+        {"unknown shape type",
+         set([](json& j) { j["shapes"][0]["type"] = "cube"; }),
+         nullptr,
+         "shapes[0].type",
          {"\"cube\"", "sphere | quad"}},
-        {"area light in lights", set([](json& j) { j["lights"] = json::parse(R"([{"type": "area"}])"); }), nullptr,
-         "lights[0].type", {"\"area\"", "point | spot", "emission"}},
+        {"area light in lights",
+         set([](json& j) { j["lights"] = json::parse(R"([{"type": "area"}])"); }),
+         nullptr,
+         "lights[0].type",
+         {"\"area\"", "point | spot", "emission"}},
         {"duplicate key", nullptr, R"(1, "radius": 2)", "shapes[0].radius", {"duplicate key \"radius\""}},
-        {"duplicate material", set([](json& j) { j["materials"][1]["name"] = "white"; }), nullptr, "materials[1].name",
+        {"duplicate material",
+         set([](json& j) { j["materials"][1]["name"] = "white"; }),
+         nullptr,
+         "materials[1].name",
          {"\"white\"", "materials[0]", "unique"}},
-        {"albedo above 1", set([](json& j) { j["materials"][0]["albedo"] = {0.5, 1.5, 0.5}; }), nullptr,
-         "materials[0].albedo[1]", {"1.5", "0 .. 1"}},
-        {"negative emission", set([](json& j) { j["materials"][1]["emission"] = -2; }), nullptr, "materials[1].emission",
+        {"albedo above 1",
+         set([](json& j) {
+             j["materials"][0]["albedo"] = {0.5, 1.5, 0.5};
+         }),
+         nullptr,
+         "materials[0].albedo[1]",
+         {"1.5", "0 .. 1"}},
+        {"negative emission",
+         set([](json& j) { j["materials"][1]["emission"] = -2; }),
+         nullptr,
+         "materials[1].emission",
          {"-2", ">= 0"}},
-        {"roughness above 1", set([](json& j) { j["materials"][0] = {{"name", "white"}, {"type", "conductor"}, {"roughness", 2}}; }),
-         nullptr, "materials[0].roughness", {"2", "0 .. 1"}},
-        {"ior below 1", set([](json& j) { j["materials"][0] = {{"name", "white"}, {"type", "dielectric"}, {"ior", 0.5}}; }),
-         nullptr, "materials[0].ior", {"0.5", "1 .. 4"}},
+        {"roughness above 1",
+         set([](json& j) {
+             j["materials"][0] = {{"name", "white"}, {"type", "conductor"}, {"roughness", 2}};
+         }),
+         nullptr,
+         "materials[0].roughness",
+         {"2", "0 .. 1"}},
+        {"ior below 1",
+         set([](json& j) {
+             j["materials"][0] = {{"name", "white"}, {"type", "dielectric"}, {"ior", 0.5}};
+         }),
+         nullptr,
+         "materials[0].ior",
+         {"0.5", "1 .. 4"}},
         {"fov 180", set([](json& j) { j["camera"]["fovY"] = 180; }), nullptr, "camera.fovY", {"180", "(0, 180)"}},
-        {"look at the eye", set([](json& j) { j["camera"]["lookAt"] = {0, 0, 5}; }), nullptr, "camera.lookAt",
+        {"look at the eye",
+         set([](json& j) {
+             j["camera"]["lookAt"] = {0, 0, 5};
+         }),
+         nullptr,
+         "camera.lookAt",
          {"[0, 0, 5]", "camera position"}},
-        {"up along the view", set([](json& j) { j["camera"]["up"] = {0, 0, -3}; }), nullptr, "camera.up",
+        {"up along the view",
+         set([](json& j) {
+             j["camera"]["up"] = {0, 0, -3};
+         }),
+         nullptr,
+         "camera.up",
          {"[0, 0, -3]", "parallel"}},
-        {"negative aperture", set([](json& j) { j["camera"]["apertureRadius"] = -0.1; }), nullptr,
-         "camera.apertureRadius", {"-0.1", ">= 0"}},
-        {"pinhole with an aperture", set([](json& j) {
+        {"negative aperture",
+         set([](json& j) { j["camera"]["apertureRadius"] = -0.1; }),
+         nullptr,
+         "camera.apertureRadius",
+         {"-0.1", ">= 0"}},
+        {"pinhole with an aperture",
+         set([](json& j) {
              j["camera"]["type"] = "pinhole";
              j["camera"]["apertureRadius"] = 0.1;
          }),
-         nullptr, "camera.apertureRadius", {"0.1", "pinhole"}},
-        {"thin lens without an aperture", set([](json& j) { j["camera"]["type"] = "thinlens"; }), nullptr,
-         "camera.apertureRadius", {"0", "> 0"}},
-        {"zero focus distance", set([](json& j) { j["camera"]["focusDistance"] = 0; }), nullptr, "camera.focusDistance",
+         nullptr,
+         "camera.apertureRadius",
+         {"0.1", "pinhole"}},
+        {"thin lens without an aperture",
+         set([](json& j) { j["camera"]["type"] = "thinlens"; }),
+         nullptr,
+         "camera.apertureRadius",
          {"0", "> 0"}},
-        {"shutter closes before it opens", set([](json& j) { j["shutter"] = {{"open", 1}, {"close", 0.5}}; }), nullptr,
-         "shutter.close", {"0.5", "close >= open"}},
-        {"spot inner angle beyond outer", set([](json& j) {
+        {"zero focus distance",
+         set([](json& j) { j["camera"]["focusDistance"] = 0; }),
+         nullptr,
+         "camera.focusDistance",
+         {"0", "> 0"}},
+        {"shutter closes before it opens",
+         set([](json& j) {
+             j["shutter"] = {{"open", 1}, {"close", 0.5}};
+         }),
+         nullptr,
+         "shutter.close",
+         {"0.5", "close >= open"}},
+        {"spot inner angle beyond outer",
+         set([](json& j) {
              j["lights"] = json::parse(R"([{"type": "spot", "position": [0, 4, 0], "intensity": 1,
                                             "direction": [0, -1, 0], "outerAngle": 30, "innerAngle": 40}])");
          }),
-         nullptr, "lights[0].innerAngle", {"40", "0 .. outerAngle = 30"}},
-        {"spot without direction", set([](json& j) {
+         nullptr,
+         "lights[0].innerAngle",
+         {"40", "0 .. outerAngle = 30"}},
+        {"spot without direction",
+         set([](json& j) {
              j["lights"] = json::parse(R"([{"type": "spot", "position": [0, 4, 0], "intensity": 1,
                                             "direction": [0, 0, 0], "outerAngle": 30}])");
          }),
-         nullptr, "lights[0].direction", {"[0, 0, 0]", "nonzero"}},
-        {"negative intensity", set([](json& j) {
+         nullptr,
+         "lights[0].direction",
+         {"[0, 0, 0]", "nonzero"}},
+        {"negative intensity",
+         set([](json& j) {
              j["lights"] = json::parse(R"([{"type": "point", "position": [0, 4, 0], "intensity": [1, -1, 1]}])");
          }),
-         nullptr, "lights[0].intensity[1]", {"-1", ">= 0"}},
-        {"maxDepth 0", set([](json& j) { j["integrator"] = {{"type", "path"}, {"maxDepth", 0}}; }), nullptr,
-         "integrator.maxDepth", {"0", "1 .. 256"}},
-        {"direct with depth 2", set([](json& j) { j["integrator"] = {{"type", "direct"}, {"maxDepth", 2}}; }), nullptr,
-         "integrator.maxDepth", {"2", "1 for direct"}},
-        {"roulette after the last vertex", set([](json& j) {
+         nullptr,
+         "lights[0].intensity[1]",
+         {"-1", ">= 0"}},
+        {"maxDepth 0",
+         set([](json& j) {
+             j["integrator"] = {{"type", "path"}, {"maxDepth", 0}};
+         }),
+         nullptr,
+         "integrator.maxDepth",
+         {"0", "1 .. 256"}},
+        {"direct with depth 2",
+         set([](json& j) {
+             j["integrator"] = {{"type", "direct"}, {"maxDepth", 2}};
+         }),
+         nullptr,
+         "integrator.maxDepth",
+         {"2", "1 for direct"}},
+        {"roulette after the last vertex",
+         set([](json& j) {
              j["integrator"] = {{"type", "path"}, {"maxDepth", 4}, {"rouletteStartDepth", 5}};
          }),
-         nullptr, "integrator.rouletteStartDepth", {"5", "maxDepth = 4"}},
-        {"MIS without NEE", set([](json& j) {
+         nullptr,
+         "integrator.rouletteStartDepth",
+         {"5", "maxDepth = 4"}},
+        {"MIS without NEE",
+         set([](json& j) {
              j["integrator"] = {{"type", "path"}, {"nextEventEstimation", false}, {"mis", true}};
          }),
-         nullptr, "integrator.mis", {"true", "nextEventEstimation"}},
-        {"unknown sampler", set([](json& j) { j["sampler"]["name"] = "owen-sobol"; }), nullptr, "sampler.name",
+         nullptr,
+         "integrator.mis",
+         {"true", "nextEventEstimation"}},
+        {"unknown sampler",
+         set([](json& j) { j["sampler"]["name"] = "owen-sobol"; }),
+         nullptr,
+         "sampler.name",
          {"\"owen-sobol\"", "bose | bush"}},
-        {"unknown offset", set([](json& j) { j["sampler"]["offset"] = "xyz"; }), nullptr, "sampler.offset",
+        {"unknown offset",
+         set([](json& j) { j["sampler"]["offset"] = "xyz"; }),
+         nullptr,
+         "sampler.offset",
          {"\"xyz\"", "centered | j | mj | cmj"}},
-        {"offset on a non-OA sampler", set([](json& j) { j["sampler"] = {{"name", "halton"}, {"spp", 16}, {"offset", "mj"}}; }),
-         nullptr, "sampler.offset", {"\"mj\"", "halton", "only with"}},
-        {"strength 3 for bose", set([](json& j) { j["sampler"] = {{"name", "bose"}, {"spp", 16}, {"strength", 3}}; }),
-         nullptr, "sampler.strength", {"3", "strength 2 only"}},
-        {"strength 25", set([](json& j) { j["sampler"]["strength"] = 25; }), nullptr, "sampler.strength",
-         {"25", "2 .. 24"}},
+        {"offset on a non-OA sampler",
+         set([](json& j) {
+             j["sampler"] = {{"name", "halton"}, {"spp", 16}, {"offset", "mj"}};
+         }),
+         nullptr,
+         "sampler.offset",
+         {"\"mj\"", "halton", "only with"}},
+        {"strength 3 for bose",
+         set([](json& j) {
+             j["sampler"] = {{"name", "bose"}, {"spp", 16}, {"strength", 3}};
+         }),
+         nullptr,
+         "sampler.strength",
+         {"3", "strength 2 only"}},
+        {"strength 25", set([](json& j) { j["sampler"]["strength"] = 25; }), nullptr, "sampler.strength", {"25", "2 .. 24"}},
         {"version 2", set([](json& j) { j["version"] = 2; }), nullptr, "version", {"2", "valid 1"}},
         {"no shapes", set([](json& j) { j["shapes"] = json::array(); }), nullptr, "shapes", {"[]", "at least one"}},
-        {"zero mesh scale", set([](json& j) {
+        {"zero mesh scale",
+         set([](json& j) {
              j["shapes"][0] = json::parse(R"({"type": "mesh", "file": "m.obj", "material": "white", "scale": [1, 0, 1]})");
          }),
-         nullptr, "shapes[0].scale", {"[1,0,1]", "nonzero"}},
-        {"missing mesh file", set([](json& j) {
+         nullptr,
+         "shapes[0].scale",
+         {"[1,0,1]", "nonzero"}},
+        {"missing mesh file",
+         set([](json& j) {
              j["shapes"][0] = json::parse(R"({"type": "mesh", "file": "nope/missing.obj", "material": "white"})");
          }),
-         nullptr, "shapes[0].file", {"nope/missing.obj", "not found"}},
+         nullptr,
+         "shapes[0].file",
+         {"nope/missing.obj", "not found"}},
     };
 }
 
@@ -577,9 +728,8 @@ TEST(BadScenes, SceneErrorKeepsItsParts)
 
 TEST(BadScenes, MalformedJsonNamesFileAndPlace)
 {
-    const std::string msg = errorOf([] {
-        parseScene("{\n  \"resolution\": [8, 8],\n  \"camera\": {\"fovY\": 40,}\n}", "broken.json", ".");
-    });
+    const std::string msg =
+        errorOf([] { parseScene("{\n  \"resolution\": [8, 8],\n  \"camera\": {\"fovY\": 40,}\n}", "broken.json", "."); });
     EXPECT_TRUE(contains(msg, "broken.json: malformed JSON")) << msg;
     EXPECT_TRUE(contains(msg, "line 3")) << msg;
     EXPECT_TRUE(contains(msg, "near camera")) << msg;
@@ -660,8 +810,9 @@ TEST(BadScenes, RandomCorruptionsOnlyEverThrowSceneError)
         state = state * 6364136223846793005ull + 1442695040888963407ull;
         return (state >> 33) % n;
     };
-    const json replacements[] = {-1, 0, 0.5, 1e30, 1e300, -1e300, 4294967296.0, 18446744073709551615ull, "x", "",
-                                 true, nullptr, json::array(), json::object(), {1, 2, 3}, {1, 2}, {{"a", 1}}};
+    const json replacements[] = {
+        -1,   0,       0.5,           1e30,           1e300,     -1e300, 4294967296.0, 18446744073709551615ull, "x", "",
+        true, nullptr, json::array(), json::object(), {1, 2, 3}, {1, 2}, {{"a", 1}}};
     int refused = 0, loaded = 0;
     for (int iter = 0; iter < 1500; ++iter) {
         std::string text;
@@ -771,8 +922,8 @@ TEST(BadScenes, QuadsWithParallelEdgesAreRefused)
         };
         const std::string quad = fmt::format(
             R"({{"type": "quad", "material": "lamp", "corner": [{}, {}, {}], "edgeU": [{}, {}, {}], "edgeV": [{}, {}, {}]}})",
-            dec(next(-99999, 99999), 3), dec(next(-99999, 99999), 3), dec(next(-99999, 99999), 3), dec(u[0], 3),
-            dec(u[1], 3), dec(u[2], 3), dec(u[0] * k, 4), dec(u[1] * k, 4), dec(u[2] * k, 4));
+            dec(next(-99999, 99999), 3), dec(next(-99999, 99999), 3), dec(next(-99999, 99999), 3), dec(u[0], 3), dec(u[1], 3),
+            dec(u[2], 3), dec(u[0] * k, 4), dec(u[1] * k, 4), dec(u[2] * k, 4));
         json j = baseScene();
         j["shapes"][1] = json::parse(quad);
         const std::string msg = errorOf([&] { parseScene(j.dump(), "flat.json", kScenes); });
@@ -860,18 +1011,17 @@ TEST(Obj, NegativeIndicesCountBackFromTheLastVertex)
 
 TEST(Obj, AllCornerFormsAndIgnoredStatements)
 {
-    const std::string text =
-        "# comment\r\n"
-        "mtllib x.mtl\r\n"
-        "o thing\ng group\ns 1\nusemtl red\n"
-        "v 0 0 0\nv +1 0 0 1\nv 0 1e0 0 0.5 0.5 0.5\nv 0 0 -1.5\n"
-        "vt 0 0\nvt 1 0\nvt 0 1\n"
-        "vn 0 0 1\n"
-        "f 1/1/1 2/2/1 3/3/1   # v/vt/vn\n"
-        "f 1//1 3//1 4//1\n"
-        "f 1/1 2/2 \\\n   4/3\n"  // v/vt, continued on the next line
-        "f 2 3 4\n"
-        "l 1 2\np 3\nvp 0.5\n";
+    const std::string text = "# comment\r\n"
+                             "mtllib x.mtl\r\n"
+                             "o thing\ng group\ns 1\nusemtl red\n"
+                             "v 0 0 0\nv +1 0 0 1\nv 0 1e0 0 0.5 0.5 0.5\nv 0 0 -1.5\n"
+                             "vt 0 0\nvt 1 0\nvt 0 1\n"
+                             "vn 0 0 1\n"
+                             "f 1/1/1 2/2/1 3/3/1   # v/vt/vn\n"
+                             "f 1//1 3//1 4//1\n"
+                             "f 1/1 2/2 \\\n   4/3\n"  // v/vt, continued on the next line
+                             "f 2 3 4\n"
+                             "l 1 2\np 3\nvp 0.5\n";
     const ObjMesh m = parseObj(text, "forms.obj");
     EXPECT_EQ(m.positions.size(), 4u);
     EXPECT_EQ(m.positions[2], glm::vec3(0, 1, 0));
@@ -902,7 +1052,8 @@ TEST(Obj, ErrorsNameFileAndLine)
         const char* what;
     };
     const Case cases[] = {
-        {"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n", "e.obj:5: ", "vertex index 4 is out of range: 3 vertices defined so far, valid 1..3 or -3..-1"},
+        {"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n",
+         "e.obj:5: ", "vertex index 4 is out of range: 3 vertices defined so far, valid 1..3 or -3..-1"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", "e.obj:4: ", "vertex index -4 is out of range"},
         {"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "e.obj:4: ", "vertex index 0 is out of range"},
         {"f 1 2 3\n", "e.obj:1: ", "no vertices defined before this line"},
@@ -984,8 +1135,8 @@ TEST(Analytic, ParallelRectangleFactorMatchesQuadrature)
     struct Case {
         double x1, x2, z1, z2, h;
     };
-    for (const Case& c : {Case{-1, 1, -1, 1, 2}, Case{0.5, 2, -0.25, 1.5, 1}, Case{-3, -1, 0.5, 0.75, 0.5},
-                          Case{-0.2, 0.9, -1.3, 0.1, 3}}) {
+    for (const Case& c :
+         {Case{-1, 1, -1, 1, 2}, Case{0.5, 2, -0.25, 1.5, 1}, Case{-3, -1, 0.5, 0.75, 0.5}, Case{-0.2, 0.9, -1.3, 0.1, 3}}) {
         const double exact = parallelRectangleFactor(c.x1, c.x2, c.z1, c.z2, c.h);
         EXPECT_NEAR(exact, quadrature(c.x1, c.x2, c.z1, c.z2, c.h), 2e-5 * exact + 1e-9)
             << c.x1 << " " << c.x2 << " " << c.z1 << " " << c.z2 << " " << c.h;

@@ -150,8 +150,7 @@ TEST(SceneCosts, AScenesTimesMustComeFromOneRun)
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("run-a and run-b"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(sceneSection({cornellRecord()}, measurements(), {specOf("Sobol"), specOf("Random")}, mixed),
-                 std::runtime_error);
+    EXPECT_THROW(sceneSection({cornellRecord()}, measurements(), {specOf("Sobol"), specOf("Random")}, mixed), std::runtime_error);
 }
 
 // The accuracy part's extra budget prices a render by the cost run (--scene-render-cost cost-run):
@@ -205,15 +204,16 @@ class SceneCostsGpu : public oas::test::GpuTest {};
 
 TEST_F(SceneCostsGpu, ACostRunTimesEveryMeasuredPointInRounds)
 {
-    const auto rows = measureSceneCosts(cornellRecord(), measurements(), {specOf("Sobol"), specOf("Random")},
-                                        [] {
-                                            SceneCostOptions o;
-                                            o.scenesDir = OAS_SCENES_DIR;
-                                            o.rounds = 3;
-                                            o.runId = "test-run";
-                                            return o;
-                                        }(),
-                                        context());
+    const auto rows = measureSceneCosts(
+        cornellRecord(), measurements(), {specOf("Sobol"), specOf("Random")},
+        [] {
+            SceneCostOptions o;
+            o.scenesDir = OAS_SCENES_DIR;
+            o.rounds = 3;
+            o.runId = "test-run";
+            return o;
+        }(),
+        context());
     ASSERT_EQ(rows.size(), 6u);  // 2 samplers × 3 counts
     for (const auto& c : rows) {
         EXPECT_EQ(c.rounds, 3u);
@@ -222,12 +222,13 @@ TEST_F(SceneCostsGpu, ACostRunTimesEveryMeasuredPointInRounds)
         EXPECT_GE(c.se, 0.0);
         EXPECT_FALSE(c.device.empty());
     }
-    EXPECT_THROW(measureSceneCosts(cornellRecord(), measurements(), {specOf("Sobol")},
-                                   [] {
-                                       SceneCostOptions o;
-                                       o.rounds = 2;
-                                       return o;
-                                   }(),
-                                   context()),
+    EXPECT_THROW(measureSceneCosts(
+                     cornellRecord(), measurements(), {specOf("Sobol")},
+                     [] {
+                         SceneCostOptions o;
+                         o.rounds = 2;
+                         return o;
+                     }(),
+                     context()),
                  std::invalid_argument);
 }

@@ -447,8 +447,10 @@ TEST(StudyShards, BadDataFilesNameTheFileRowAndColumn)
         const std::string path = (dir / "x.csv").string();
         std::ofstream(path) << text;
         try {
-            if (records) readSceneRecords(path);
-            else readSceneMeasurements(path);
+            if (records)
+                readSceneRecords(path);
+            else
+                readSceneMeasurements(path);
         } catch (const std::runtime_error& e) {
             return std::string(e.what());
         }
@@ -466,8 +468,7 @@ TEST(StudyShards, BadDataFilesNameTheFileRowAndColumn)
               path + ": row 1, column \"rel_mse_worst\": \"abc\" is not a number");
     EXPECT_EQ(messageOf(header + "c,Random,p,16,0,0.1,1e-3,1e-3,1e-3,1e-3,1\nc,Random,p,-3,0,0.1,1,1,1,1,1\n", false),
               path + ": row 2, column \"spp\": -3 is not a count in [0, 2^32 - 1]");
-    EXPECT_EQ(messageOf(header + "c,Random,p,0,0,0.1,1,1,1,1,1\n", false),
-              path + ": row 1: spp must be >= 1 and seconds >= 0");
+    EXPECT_EQ(messageOf(header + "c,Random,p,0,0,0.1,1,1,1,1,1\n", false), path + ": row 1: spp must be >= 1 and seconds >= 0");
     // A crop outside the image, and a scene twice.
     auto bad = recordOf("cornell7d", "full mode");
     bad.crop.x = 30;
@@ -663,10 +664,9 @@ TEST(StudyShards, MergingTaskFoldersCountsTheBaseOnceAndRefusesAnotherReference)
     const auto rows = readSceneMeasurements((out / "scenes.csv").string());
     std::map<std::string, int> perSampler;
     for (const auto& m : rows) perSampler[m.scene + " " + m.sampler]++;
-    EXPECT_EQ(perSampler, (std::map<std::string, int>{{"cornell7d Sobol", 6},
-                                                      {"cornell7d BoseCMJ", 6},
-                                                      {"cornell7d Random", 6},
-                                                      {"interior_deep Sobol", 6}}));
+    EXPECT_EQ(perSampler,
+              (std::map<std::string, int>{
+                  {"cornell7d Sobol", 6}, {"cornell7d BoseCMJ", 6}, {"cornell7d Random", 6}, {"interior_deep Sobol", 6}}));
 
     // A task folder whose reference differs (it started the scene over) is refused, by name.
     SceneRecord other = base;
@@ -749,7 +749,7 @@ TEST_F(StudyGpu, TinySceneStudyWritesConsistentTables)
         EXPECT_TRUE(std::isfinite(rel));
         err[cells[1]][std::stoul(cells[3])].push_back(std::stod(cells[8]));  // uncorrected: > 0
     }
-    ASSERT_EQ(err["Sobol"].size(), 4u);  // 16, 32, 64, 128
+    ASSERT_EQ(err["Sobol"].size(), 4u);     // 16, 32, 64, 128
     EXPECT_TRUE(err["Random"].count(121));  // a Bose count: matched spp
     for (auto& [sampler, bySpp] : err)
         for (auto& [spp, v] : bySpp) {
@@ -837,7 +837,7 @@ TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
     size_t randomRows = 0;
     for (const auto& m : firstRows) randomRows += m.sampler == "Random";
     EXPECT_EQ(count["Random"], randomRows);
-    EXPECT_EQ(count["Sobol"], 4u * 2u);      // 16 ... 128 x 2 renders
+    EXPECT_EQ(count["Sobol"], 4u * 2u);  // 16 ... 128 x 2 renders
     EXPECT_EQ(count["CMJ2D-pad"], 4u * 2u);
     for (const auto& m : rows) {
         if (m.sampler != "Random") continue;
@@ -849,9 +849,12 @@ TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
     // shard 1 and first in shard 2, renders the same images against the same reference.
     for (const auto& m : rows) {
         if (m.sampler != "Sobol") continue;
-        EXPECT_TRUE(std::any_of(firstRows.begin(), firstRows.end(), [&](const SceneMeasurement& f) {
-            return f.sampler == "Sobol" && f.spp == m.spp && f.trial == m.trial && f.relMseRaw == m.relMseRaw;
-        })) << m.spp << " " << m.trial;
+        EXPECT_TRUE(std::any_of(firstRows.begin(), firstRows.end(),
+                                [&](const SceneMeasurement& f) {
+                                    return f.sampler == "Sobol" && f.spp == m.spp && f.trial == m.trial &&
+                                           f.relMseRaw == m.relMseRaw;
+                                }))
+            << m.spp << " " << m.trial;
     }
     // Equal-time rows: all three samplers (the budget is Sobol's), in table order.
     const auto eq = lines((dir / "scene_equal_time.csv").string());
@@ -904,10 +907,12 @@ TEST_F(StudyGpu, ATopUpAddsRendersWhereASingleLargerRunWould)
     const auto rows = readSceneMeasurements((dir / "scenes.csv").string());
     ASSERT_EQ(rows.size(), 2 * firstRows.size());
     for (const auto& f : firstRows)  // the earlier renders, unchanged
-        EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const SceneMeasurement& m) {
-            return m.sampler == f.sampler && m.spp == f.spp && m.trial == f.trial && m.relMseRaw == f.relMseRaw &&
-                   m.seconds == f.seconds;
-        })) << f.sampler << "@" << f.spp << " trial " << f.trial;
+        EXPECT_TRUE(std::any_of(rows.begin(), rows.end(),
+                                [&](const SceneMeasurement& m) {
+                                    return m.sampler == f.sampler && m.spp == f.spp && m.trial == f.trial &&
+                                           m.relMseRaw == f.relMseRaw && m.seconds == f.seconds;
+                                }))
+            << f.sampler << "@" << f.spp << " trial " << f.trial;
     EXPECT_EQ(lines((dir / "scene_equal_time.csv").string()), firstEq);  // no new trial-0 images
 
     // One run with the cap of 4 from the start renders the same trials 2 and 3 (the same seeds).
@@ -919,9 +924,12 @@ TEST_F(StudyGpu, ATopUpAddsRendersWhereASingleLargerRunWould)
     const auto onceRows = readSceneMeasurements((std::filesystem::path(once.outDir) / "scenes.csv").string());
     ASSERT_EQ(onceRows.size(), rows.size());
     for (const auto& m : onceRows)
-        EXPECT_TRUE(std::any_of(rows.begin(), rows.end(), [&](const SceneMeasurement& r) {
-            return r.sampler == m.sampler && r.spp == m.spp && r.trial == m.trial && r.relMseRaw == m.relMseRaw;
-        })) << m.sampler << "@" << m.spp << " trial " << m.trial;
+        EXPECT_TRUE(std::any_of(rows.begin(), rows.end(),
+                                [&](const SceneMeasurement& r) {
+                                    return r.sampler == m.sampler && r.spp == m.spp && r.trial == m.trial &&
+                                           r.relMseRaw == m.relMseRaw;
+                                }))
+            << m.sampler << "@" << m.spp << " trial " << m.trial;
 
     // A scene without an earlier record cannot be topped up.
     o.scenes = {"blue_spheres9d"};
@@ -986,7 +994,7 @@ TEST_F(StudyGpu, TheRarePixelSplitAddsRendersOfThosePixelsToEveryPoint)
     }
     for (std::uint32_t spp : {16u, 32u}) {
         EXPECT_EQ(imageRows[spp], 2u);
-        EXPECT_GE(rareRows[spp], 2u);             // at least two batches
+        EXPECT_GE(rareRows[spp], 2u);               // at least two batches
         EXPECT_LE(rareRows[spp], 64 / kRareBatch);  // at most maxRareRenders
     }
     EXPECT_NE(md.find("rare-pixel split"), std::string::npos);
@@ -1023,8 +1031,7 @@ TEST(StudyShards, TheSectionStatesWhatTheCappedPointsWouldCost)
     split.rareCount = 2;
     split.rarePixels = "1:1 2:2";
     const std::string md2 = sceneSection({split}, ms, {specOf("Random")});
-    EXPECT_NE(md2.find("cornell7d 1 of 2, about 1.1 h more of renders on its device to finish them;"),
-              std::string::npos);
+    EXPECT_NE(md2.find("cornell7d 1 of 2, about 1.1 h more of renders on its device to finish them;"), std::string::npos);
     // Under an hour it is said in minutes (the quick study's caps cost seconds: "0.0 h" said nothing).
     for (auto& m : ms) m.seconds /= 100;  // 40 s: "about 1 min"
     const std::string md3 = sceneSection({recordOf("cornell7d", "full mode")}, ms, {specOf("Random")});

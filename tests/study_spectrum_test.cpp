@@ -110,8 +110,8 @@ TEST(StudySpectrum, LatinHypercubeAxesAreDarkForOrthogonalArrays)
     // to zero at 0 < |k| < N, so only the jitter is left: E[P(k, 0)] <= 1 - sinc^2(pi k / N),
     // about 0.02 on average for |k| <= 16 and N = 121, against 1 for random points.
     const int r = 16;
-    for (auto [label, n] : {std::pair<std::string, std::uint32_t>{"BoseCMJ", 121}, {"BoseMJ", 121},
-                            {"BushMJ(t=2)", 121}, {"BoseBushCMJ", 128}}) {
+    for (auto [label, n] :
+         {std::pair<std::string, std::uint32_t>{"BoseCMJ", 121}, {"BoseMJ", 121}, {"BushMJ(t=2)", 121}, {"BoseBushCMJ", 128}}) {
         const auto pat = patternOf(label, n);
         for (const auto& pair : projectionPairs(specOf(label), pat)) {
             const Spectrum s = powerSpectrum(pat, pair.a, pair.b, 16, r, 11, 2);
@@ -179,8 +179,8 @@ TEST(StudySpectrum, RadialMeanAndProfile)
     const auto p = radialProfile(s);
     ASSERT_EQ(p.size(), 4u);
     EXPECT_EQ(p[0], 0.0);
-    EXPECT_DOUBLE_EQ(p[1], (4 * 1 + 4 * 2) / 8.0);   // |k| in {1, sqrt 2}: sqrt 2 < 1.5
-    EXPECT_DOUBLE_EQ(p[2], (4 * 4 + 8 * 5) / 12.0);  // |k| in {2, sqrt 5}
+    EXPECT_DOUBLE_EQ(p[1], (4 * 1 + 4 * 2) / 8.0);            // |k| in {1, sqrt 2}: sqrt 2 < 1.5
+    EXPECT_DOUBLE_EQ(p[2], (4 * 4 + 8 * 5) / 12.0);           // |k| in {2, sqrt 5}
     EXPECT_DOUBLE_EQ(p[3], (4 * 9 + 4 * 8 + 8 * 10) / 16.0);  // |k| in {sqrt 8, 3, sqrt 10}
 }
 

@@ -177,9 +177,9 @@ TEST(StudyStats, RatioAndInterpolationPropagateTheError)
     const Estimate midC = interpEstimate(x, yc, 2);
     EXPECT_NEAR(midC.se / midC.mean, std::sqrt(0.07 * 0.07 + 0.01 * 0.01), 1e-12);
     EXPECT_FALSE(midC.capped);
-    EXPECT_TRUE(interpEstimate(x, yc, 2, 0.05).capped);           // 7% is above a 5% target
-    EXPECT_TRUE(interpEstimate(x, yc, 1.1).capped);               // mostly the capped point: ~13%
-    EXPECT_FALSE(interpEstimate({1, 4}, y, 2, 0.01).capped);      // no capped neighbour: never capped
+    EXPECT_TRUE(interpEstimate(x, yc, 2, 0.05).capped);       // 7% is above a 5% target
+    EXPECT_TRUE(interpEstimate(x, yc, 1.1).capped);           // mostly the capped point: ~13%
+    EXPECT_FALSE(interpEstimate({1, 4}, y, 2, 0.01).capped);  // no capped neighbour: never capped
 }
 
 TEST(StudyStats, AStratifiedSumAddsVariances)
@@ -200,7 +200,10 @@ TEST(StudyStats, JointAdaptiveDrawsWaitForEveryTargetedQuantity)
     o.nMin = 4;
     o.nMax = 100;
     const auto r = adaptiveMeans(
-        [](std::uint32_t i) { return std::vector<double>{2.0, i % 2 ? 1.5 : 0.5, i == 0 ? 1e6 : 0.0}; }, 2, o);
+        [](std::uint32_t i) {
+            return std::vector<double>{2.0, i % 2 ? 1.5 : 0.5, i == 0 ? 1e6 : 0.0};
+        },
+        2, o);
     ASSERT_EQ(r.size(), 3u);
     EXPECT_EQ(r[0].estimate.n, r[1].estimate.n);
     EXPECT_GE(r[1].estimate.n, 20u);
@@ -274,7 +277,11 @@ TEST(StudyStats, SharedBudgetGoesWhereItShrinksTheErrorMostPerSecond)
     // An endless budget: the cap nMax bounds every point, rare events stay marked.
     o.nMax = 16;
     const auto capped = budgetedMeans(
-        2, [](std::size_t, std::uint32_t i) { return CostedDraw{{i % 50 == 3 ? 100.0 : 0.01}, 1.0}; }, 1, o, 1e9);
+        2,
+        [](std::size_t, std::uint32_t i) {
+            return CostedDraw{{i % 50 == 3 ? 100.0 : 0.01}, 1.0};
+        },
+        1, o, 1e9);
     EXPECT_EQ(capped[0][0].estimate.n, 16u);
     EXPECT_EQ(capped[1][0].estimate.n, 16u);
     EXPECT_TRUE(capped[0][0].estimate.capped);

@@ -16,18 +16,18 @@ struct SamplerCase {
 /// The numerically hardest patterns: the largest fields and N, GF(2^k) and GF(3^k), s = 2 and 3.
 inline std::vector<SamplerCase> hardCases()
 {
-    return {{"bose", 4093u * 4093u, 0},                    // largest prime q with q^2 <= 2^24
-            {"bose", 4096u * 4096u, 0},                    // largest q: GF(2^12), N = 2^24
-            {"bose", 3721u * 3721u, 0},                    // GF(61^2): the largest odd extension field
-            {"bose", 625u * 625u, 0},                      // GF(5^4): the fullest digit slots (4 x 8 bits)
-            {"bush", 256u * 256u * 256u, 3},               // N = 2^24, GF(2^8), 257 dims
-            {"bush", 243u * 243u * 243u, 3},               // GF(3^5), N = 14348907
-            {"bose-bush", 2u * 2048u * 2048u, 0},          // GF(2^12) mapped to q = 2^11
+    return {{"bose", 4093u * 4093u, 0},                      // largest prime q with q^2 <= 2^24
+            {"bose", 4096u * 4096u, 0},                      // largest q: GF(2^12), N = 2^24
+            {"bose", 3721u * 3721u, 0},                      // GF(61^2): the largest odd extension field
+            {"bose", 625u * 625u, 0},                        // GF(5^4): the fullest digit slots (4 x 8 bits)
+            {"bush", 256u * 256u * 256u, 3},                 // N = 2^24, GF(2^8), 257 dims
+            {"bush", 243u * 243u * 243u, 3},                 // GF(3^5), N = 14348907
+            {"bose-bush", 2u * 2048u * 2048u, 0},            // GF(2^12) mapped to q = 2^11
             {"addelman-kempthorne", 2u * 2809u * 2809u, 0},  // GF(53^2), N = 15780962
             {"addelman-kempthorne", 2u * 2197u * 2197u, 0},  // GF(13^3), N = 9653618
             {"addelman-kempthorne", 2u * 2039u * 2039u, 0},  // a large odd prime
-            {"cmjnd", 1u << 24, 24},                       // s = 2, d = 24
-            {"cmjnd", 14348907u, 15}};                     // s = 3, d = 15
+            {"cmjnd", 1u << 24, 24},                         // s = 2, d = 24
+            {"cmjnd", 14348907u, 15}};                       // s = 3, d = 15
 }
 
 /// The pattern of a case with an offset (dims: the strength, or 2).

@@ -41,7 +41,10 @@ inline void trim(Poly& a)
 }
 
 /// Degree; -1 for the zero polynomial.
-inline int degree(const Poly& a) { return int(a.size()) - 1; }
+inline int degree(const Poly& a)
+{
+    return int(a.size()) - 1;
+}
 
 inline Poly polyAdd(const Poly& a, const Poly& b, int p)
 {
@@ -413,8 +416,8 @@ inline bool isOrthogonalArray(const Array& A, int s, int t, std::vector<int> col
         for (int c : cols) {
             if (c < 0 || c >= int(A[r].size())) return fail("column " + std::to_string(c) + " missing");
             if (A[r][c] < 0 || A[r][c] >= s)
-                return fail("entry (" + std::to_string(r) + ", " + std::to_string(c) + ") = " +
-                            std::to_string(A[r][c]) + " is not a level in [0, s)");
+                return fail("entry (" + std::to_string(r) + ", " + std::to_string(c) + ") = " + std::to_string(A[r][c]) +
+                            " is not a level in [0, s)");
         }
     std::vector<long long> count(cells);
     std::string reason;
@@ -428,8 +431,7 @@ inline bool isOrthogonalArray(const Array& A, int s, int t, std::vector<int> col
         for (long long cell = 0; cell < cells; ++cell)
             if (count[cell] != lambda) {
                 reason = "columns {";
-                for (std::size_t i = 0; i < subset.size(); ++i)
-                    reason += (i ? "," : "") + std::to_string(subset[i]);
+                for (std::size_t i = 0; i < subset.size(); ++i) reason += (i ? "," : "") + std::to_string(subset[i]);
                 reason += "}: level tuple #" + std::to_string(cell) + " occurs " + std::to_string(count[cell]) +
                           " times, expected " + std::to_string(lambda);
                 return false;

@@ -76,8 +76,8 @@ std::string underXvfb(const std::string& args, int displayBase)
         fs::exists("/usr/share/vulkan/icd.d/lvp_icd.x86_64.json"))
         driver = "VK_DRIVER_FILES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json "
                  "VK_ICD_FILENAMES=/usr/share/vulkan/icd.d/lvp_icd.x86_64.json ";
-    return driver + "OAS_VK_VALIDATION=1 xvfb-run -a -n " + std::to_string(displayBase) +
-           " -s '-screen 0 1600x1000x24' '" + std::string(OAS_VIEW_EXE) + "' " + args;
+    return driver + "OAS_VK_VALIDATION=1 xvfb-run -a -n " + std::to_string(displayBase) + " -s '-screen 0 1600x1000x24' '" +
+           std::string(OAS_VIEW_EXE) + "' " + args;
 }
 
 class ViewGpu : public ::testing::Test {
@@ -143,8 +143,7 @@ bool inPanel(const oas::view::PointsLayout& l, int x, int y)
 /// centre pixel and those up to r - 1 away along both axes (inside the panel) are the point
 /// colour, and no point-coloured pixel of the panel lies further than r + 1 from every centre.
 template <class Image>
-void expectDiscs(const Image& img, const std::vector<std::pair<int, int>>& centres, double r,
-                 const oas::view::PointsLayout& l)
+void expectDiscs(const Image& img, const std::vector<std::pair<int, int>>& centres, double r, const oas::view::PointsLayout& l)
 {
     ASSERT_GE(r, 1.0) << "a disc, not a pixel";
     for (const auto& [cx, cy] : centres) {
@@ -233,9 +232,8 @@ TEST_F(ViewGpu, ScriptedKeysSwitchOffsetAndSppAndRestart)
     // 17 .. 24 are no squares); r restarts; the screenshot is oas-render's image of the new
     // settings, so the keys reached the renderer and the accumulation was cleared.
     const fs::path dir = workDir("keys");
-    const Result v =
-        view("'" + kScene + "' --sampler bose --offset cmj --spp 49 --zoom 1 --script 'o@2 -@4 r@6' --screenshot shot.png",
-             dir, 130);
+    const Result v = view(
+        "'" + kScene + "' --sampler bose --offset cmj --spp 49 --zoom 1 --script 'o@2 -@4 r@6' --screenshot shot.png", dir, 130);
     if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
     const Result r = run(renderCommand("'" + kScene + "' --sampler bose --offset mj --spp 16 -o ref.exr"), dir);
     ASSERT_EQ(r.status, 0) << r.output;
@@ -265,8 +263,7 @@ TEST_F(ViewGpu, PointsModeDrawsOasSamplesPointsAsDiscsInEveryStratumOnce)
     // gives pixel (0, 0), no white pixel lies away from them, each of the 11 x 11 strata holds one,
     // and the labels and the frame around the panel are drawn.
     const fs::path dir = workDir("points");
-    const Result v =
-        view("--points --sampler bose --spp 121 --dims 4 --pair 0,1 --seed 3 --screenshot shot.png", dir, 170);
+    const Result v = view("--points --sampler bose --spp 121 --dims 4 --pair 0,1 --seed 3 --screenshot shot.png", dir, 170);
     if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
     const Result s = run("'" + std::string(OAS_SAMPLES_EXE) +
                              "' --sampler bose --spp 121 --dims 4 --seed 3 --pixel 0,0 --format csv -o pts.csv",

@@ -19,139 +19,153 @@ using oas::vk::Buffer;
 using oas::vk::ComputePipeline;
 using oas::vk::Context;
 
-std::unique_ptr<Context> makeValidatedContext() {
-  oas::vk::selectLavapipeIfUnset();
-  oas::vk::ContextOptions opts;
-  opts.validation = true;
-  opts.requireValidation = true;
-  return std::make_unique<Context>(opts);
+std::unique_ptr<Context> makeValidatedContext()
+{
+    oas::vk::selectLavapipeIfUnset();
+    oas::vk::ContextOptions opts;
+    opts.validation = true;
+    opts.requireValidation = true;
+    return std::make_unique<Context>(opts);
 }
 
-#define OAS_MAKE_CONTEXT_OR_SKIP(var)                                   \
-  std::unique_ptr<Context> var;                                         \
-  try {                                                                 \
-    var = makeValidatedContext();                                       \
-  } catch (const oas::vk::NoDeviceError& e) {                           \
-    GTEST_SKIP() << "SKIPPED: no Vulkan device: " << e.what();          \
-  }
+#define OAS_MAKE_CONTEXT_OR_SKIP(var)                                                                                            \
+    std::unique_ptr<Context> var;                                                                                                \
+    try {                                                                                                                        \
+        var = makeValidatedContext();                                                                                            \
+    } catch (const oas::vk::NoDeviceError& e) {                                                                                  \
+        GTEST_SKIP() << "SKIPPED: no Vulkan device: " << e.what();                                                               \
+    }
 
 /// Creates a buffer and the smoke pipeline, dispatches 64 elements, destroys both; returns the
 /// last element (3 * 63 + 1 when the dispatch ran).
-uint32_t dispatchSmall(Context& ctx) {
-  Buffer buf(ctx, 64 * sizeof(uint32_t));
-  ComputePipeline pipe(ctx, vk_smoke_spv, sizeof(vk_smoke_spv), 1, 8);
-  const uint32_t push[2] = {64, 1};
-  Buffer* bufs[] = {&buf};
-  ctx.dispatch(pipe, bufs, push, sizeof(push), 1);
-  return static_cast<uint32_t*>(buf.data())[63];
+uint32_t dispatchSmall(Context& ctx)
+{
+    Buffer buf(ctx, 64 * sizeof(uint32_t));
+    ComputePipeline pipe(ctx, vk_smoke_spv, sizeof(vk_smoke_spv), 1, 8);
+    const uint32_t push[2] = {64, 1};
+    Buffer* bufs[] = {&buf};
+    ctx.dispatch(pipe, bufs, push, sizeof(push), 1);
+    return static_cast<uint32_t*>(buf.data())[63];
 }
 
-TEST(VkSmoke, DispatchWritesEveryElement) {
-  OAS_MAKE_CONTEXT_OR_SKIP(ctx);
-  ASSERT_TRUE(ctx->validationEnabled());
-  std::printf("device: %s, driver: %s, lavapipe: %d\n", ctx->deviceName().c_str(), ctx->driverName().c_str(),
-              int(ctx->isLavapipe()));
+TEST(VkSmoke, DispatchWritesEveryElement)
+{
+    OAS_MAKE_CONTEXT_OR_SKIP(ctx);
+    ASSERT_TRUE(ctx->validationEnabled());
+    std::printf("device: %s, driver: %s, lavapipe: %d\n", ctx->deviceName().c_str(), ctx->driverName().c_str(),
+                int(ctx->isLavapipe()));
 
-  constexpr uint32_t n = 100000;  // not a multiple of 64, so the bounds check in the shader matters
-  {
-    Buffer buf(*ctx, n * sizeof(uint32_t) + 256);  // slack past n must stay untouched
-    auto* data = static_cast<uint32_t*>(buf.data());
-    for (uint32_t i = 0; i < n + 64; ++i) data[i] = 0xDEADBEEFu;
-    ComputePipeline pipe(*ctx, vk_smoke_spv, sizeof(vk_smoke_spv), 1, 8);
-    for (uint32_t add : {7u, 1000u}) {  // second run checks descriptor-pool and fence reuse
-      const uint32_t push[2] = {n, add};
-      Buffer* bufs[] = {&buf};
-      ctx->dispatch(pipe, bufs, push, sizeof(push), (n + 63) / 64);
-      uint32_t bad = 0;
-      for (uint32_t i = 0; i < n; ++i) bad += data[i] != i * 3u + add;
-      EXPECT_EQ(bad, 0u) << "add=" << add << ", first element " << data[0];
-      EXPECT_EQ(data[n], 0xDEADBEEFu);
+    constexpr uint32_t n = 100000;  // not a multiple of 64, so the bounds check in the shader matters
+    {
+        Buffer buf(*ctx, n * sizeof(uint32_t) + 256);  // slack past n must stay untouched
+        auto* data = static_cast<uint32_t*>(buf.data());
+        for (uint32_t i = 0; i < n + 64; ++i) data[i] = 0xDEADBEEFu;
+        ComputePipeline pipe(*ctx, vk_smoke_spv, sizeof(vk_smoke_spv), 1, 8);
+        for (uint32_t add : {7u, 1000u}) {  // second run checks descriptor-pool and fence reuse
+            const uint32_t push[2] = {n, add};
+            Buffer* bufs[] = {&buf};
+            ctx->dispatch(pipe, bufs, push, sizeof(push), (n + 63) / 64);
+            uint32_t bad = 0;
+            for (uint32_t i = 0; i < n; ++i) bad += data[i] != i * 3u + add;
+            EXPECT_EQ(bad, 0u) << "add=" << add << ", first element " << data[0];
+            EXPECT_EQ(data[n], 0xDEADBEEFu);
+        }
+        EXPECT_THROW(ctx->dispatch(pipe, {}, nullptr, 0, 1), std::invalid_argument);
     }
-    EXPECT_THROW(ctx->dispatch(pipe, {}, nullptr, 0, 1), std::invalid_argument);
-  }
-  // Checked after the buffer and pipeline are gone, so their destruction is covered too.
-  EXPECT_TRUE(ctx->validationMessages().empty());
-  EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));  // on failure, gtest prints them all
+    // Checked after the buffer and pipeline are gone, so their destruction is covered too.
+    EXPECT_TRUE(ctx->validationMessages().empty());
+    EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));  // on failure, gtest prints them all
 }
 
-TEST(VkSmoke, ValidationLogIsEmptyAfterFullLifecycle) {
-  OAS_MAKE_CONTEXT_OR_SKIP(ctx);
-  EXPECT_EQ(dispatchSmall(*ctx), 63u * 3u + 1u);
-  EXPECT_TRUE(ctx->validationMessages().empty());
-  EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
+TEST(VkSmoke, ValidationLogIsEmptyAfterFullLifecycle)
+{
+    OAS_MAKE_CONTEXT_OR_SKIP(ctx);
+    EXPECT_EQ(dispatchSmall(*ctx), 63u * 3u + 1u);
+    EXPECT_TRUE(ctx->validationMessages().empty());
+    EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
 }
 
 /// Sets an environment variable (or unsets it, for nullopt) for one scope.
 class ScopedEnv {
- public:
-  ScopedEnv(const char* name, std::optional<std::string> value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    if (value) ::setenv(name, value->c_str(), 1);
-    else ::unsetenv(name);
-  }
-  ~ScopedEnv() {
-    if (old_) ::setenv(name_, old_->c_str(), 1);
-    else ::unsetenv(name_);
-  }
- private:
-  const char* name_;
-  std::optional<std::string> old_;
+public:
+    ScopedEnv(const char* name, std::optional<std::string> value) : name_(name)
+    {
+        if (const char* old = std::getenv(name)) old_ = old;
+        if (value)
+            ::setenv(name, value->c_str(), 1);
+        else
+            ::unsetenv(name);
+    }
+    ~ScopedEnv()
+    {
+        if (old_)
+            ::setenv(name_, old_->c_str(), 1);
+        else
+            ::unsetenv(name_);
+    }
+
+private:
+    const char* name_;
+    std::optional<std::string> old_;
 };
 
 // Regression (issue 8): on a machine whose HOME has no ~/.cache yet the layer reported, at info
 // severity, that it could not open its shader validation cache, and every GPU test failed there
 // while passing on machines that had run the tests before. A fresh HOME must give no finding, and
 // the layer must not keep a cache file in the user's HOME for us.
-TEST(VkSmoke, FreshHomeGivesNoValidationMessages) {
-  namespace fs = std::filesystem;
-  std::string dir = (fs::temp_directory_path() / "oas-fresh-home-XXXXXX").string();
-  ASSERT_NE(::mkdtemp(dir.data()), nullptr);
-  {
-    ScopedEnv home("HOME", dir), xdg("XDG_CACHE_HOME", std::nullopt);
-    OAS_MAKE_CONTEXT_OR_SKIP(ctx);
-    EXPECT_EQ(dispatchSmall(*ctx), 63u * 3u + 1u);
-    EXPECT_TRUE(ctx->validationMessages().empty());
-    EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
-  }
-  for (const auto& entry : fs::recursive_directory_iterator(dir))
-    EXPECT_EQ(entry.path().filename().string().rfind("shader_validation_cache", 0), std::string::npos)
-        << entry.path() << ": the layer wrote its validation cache into HOME";
-  fs::remove_all(dir);
+TEST(VkSmoke, FreshHomeGivesNoValidationMessages)
+{
+    namespace fs = std::filesystem;
+    std::string dir = (fs::temp_directory_path() / "oas-fresh-home-XXXXXX").string();
+    ASSERT_NE(::mkdtemp(dir.data()), nullptr);
+    {
+        ScopedEnv home("HOME", dir), xdg("XDG_CACHE_HOME", std::nullopt);
+        OAS_MAKE_CONTEXT_OR_SKIP(ctx);
+        EXPECT_EQ(dispatchSmall(*ctx), 63u * 3u + 1u);
+        EXPECT_TRUE(ctx->validationMessages().empty());
+        EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
+    }
+    for (const auto& entry : fs::recursive_directory_iterator(dir))
+        EXPECT_EQ(entry.path().filename().string().rfind("shader_validation_cache", 0), std::string::npos)
+            << entry.path() << ": the layer wrote its validation cache into HOME";
+    fs::remove_all(dir);
 }
 
 // Proves the messenger really collects: otherwise "no messages" above would prove nothing.
-TEST(VkSmoke, ValidationCatchesMisuse) {
-  OAS_MAKE_CONTEXT_OR_SKIP(ctx);
-  VkBufferCreateInfo bci{};
-  bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
-  bci.size = 16;
-  bci.usage = 0;  // invalid: at least one usage bit is required
-  VkBuffer b = VK_NULL_HANDLE;
-  if (vkCreateBuffer(ctx->device(), &bci, nullptr, &b) == VK_SUCCESS) vkDestroyBuffer(ctx->device(), b, nullptr);
-  const auto msgs = ctx->validationMessages();
-  ASSERT_FALSE(msgs.empty());
-  EXPECT_NE(msgs.front().find("VkBufferCreateInfo-usage"), std::string::npos) << msgs.front();
-  EXPECT_THROW(oas::vk::throwIfValidationMessages(*ctx), oas::vk::VulkanError);
-  ctx->clearValidationMessages();
+TEST(VkSmoke, ValidationCatchesMisuse)
+{
+    OAS_MAKE_CONTEXT_OR_SKIP(ctx);
+    VkBufferCreateInfo bci{};
+    bci.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO;
+    bci.size = 16;
+    bci.usage = 0;  // invalid: at least one usage bit is required
+    VkBuffer b = VK_NULL_HANDLE;
+    if (vkCreateBuffer(ctx->device(), &bci, nullptr, &b) == VK_SUCCESS) vkDestroyBuffer(ctx->device(), b, nullptr);
+    const auto msgs = ctx->validationMessages();
+    ASSERT_FALSE(msgs.empty());
+    EXPECT_NE(msgs.front().find("VkBufferCreateInfo-usage"), std::string::npos) << msgs.front();
+    EXPECT_THROW(oas::vk::throwIfValidationMessages(*ctx), oas::vk::VulkanError);
+    ctx->clearValidationMessages();
 }
 
-TEST(VkCheck, ErrorTextNamesCallResultAndLocation) {
-  EXPECT_STREQ(oas::vk::resultName(VK_ERROR_DEVICE_LOST), "VK_ERROR_DEVICE_LOST");
-  EXPECT_STREQ(oas::vk::resultName(VK_ERROR_OUT_OF_DEVICE_MEMORY), "VK_ERROR_OUT_OF_DEVICE_MEMORY");
-  auto fails = [] { return VK_ERROR_DEVICE_LOST; };
-  try {
-    OAS_VK_CHECK(fails());
-    FAIL() << "OAS_VK_CHECK did not throw";
-  } catch (const oas::vk::VulkanError& e) {
-    const std::string what = e.what();
-    EXPECT_EQ(e.result(), VK_ERROR_DEVICE_LOST);
-    EXPECT_NE(what.find("fails()"), std::string::npos) << what;
-    EXPECT_NE(what.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << what;
-    EXPECT_NE(what.find("vk_smoke_test.cpp:"), std::string::npos) << what;
-  }
-  int calls = 0;
-  OAS_VK_CHECK((++calls, VK_SUCCESS));
-  EXPECT_EQ(calls, 1);  // evaluated exactly once
+TEST(VkCheck, ErrorTextNamesCallResultAndLocation)
+{
+    EXPECT_STREQ(oas::vk::resultName(VK_ERROR_DEVICE_LOST), "VK_ERROR_DEVICE_LOST");
+    EXPECT_STREQ(oas::vk::resultName(VK_ERROR_OUT_OF_DEVICE_MEMORY), "VK_ERROR_OUT_OF_DEVICE_MEMORY");
+    auto fails = [] { return VK_ERROR_DEVICE_LOST; };
+    try {
+        OAS_VK_CHECK(fails());
+        FAIL() << "OAS_VK_CHECK did not throw";
+    } catch (const oas::vk::VulkanError& e) {
+        const std::string what = e.what();
+        EXPECT_EQ(e.result(), VK_ERROR_DEVICE_LOST);
+        EXPECT_NE(what.find("fails()"), std::string::npos) << what;
+        EXPECT_NE(what.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << what;
+        EXPECT_NE(what.find("vk_smoke_test.cpp:"), std::string::npos) << what;
+    }
+    int calls = 0;
+    OAS_VK_CHECK((++calls, VK_SUCCESS));
+    EXPECT_EQ(calls, 1);  // evaluated exactly once
 }
 
 }  // namespace

@@ -58,8 +58,8 @@ std::string number(double v)
 }
 
 /// Empty when a and b hold the same bits in every channel; else the first difference in words.
-std::string exactDifference(const oas::image::Image& a, const oas::image::UintChannels& aUints,
-                            const oas::image::Image& b, const oas::image::UintChannels& bUints)
+std::string exactDifference(const oas::image::Image& a, const oas::image::UintChannels& aUints, const oas::image::Image& b,
+                            const oas::image::UintChannels& bUints)
 {
     if (a.width != b.width || a.height != b.height)
         return fmt::format("sizes {}x{} and {}x{}", a.width, a.height, b.width, b.height);
@@ -75,8 +75,7 @@ std::string exactDifference(const oas::image::Image& a, const oas::image::UintCh
         const auto& other = bUints.at(name);
         for (std::size_t i = 0; i < values.size(); ++i)
             if (values[i] != other[i])
-                return fmt::format("pixel {},{} channel {}: {} and {}", i % a.width, i / a.width, name, values[i],
-                                   other[i]);
+                return fmt::format("pixel {},{} channel {}: {} and {}", i % a.width, i / a.width, name, values[i], other[i]);
     }
     return "";
 }
@@ -150,8 +149,8 @@ int measure(const std::string& imagePath, const std::string& referencePath, cons
 
     std::size_t regionWidth = std::string("region").size();
     for (const auto& row : rows) regionWidth = std::max(regionWidth, row.first.size());
-    std::string out = fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", "region", regionWidth, "pixels", "MSE",
-                                  "relMSE", "RMSE");
+    std::string out =
+        fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", "region", regionWidth, "pixels", "MSE", "relMSE", "RMSE");
     for (const auto& [label, m] : rows)
         out += fmt::format("{:<{}}  {:>10}  {:>15}  {:>15}  {:>15}\n", label, regionWidth, m.pixels, number(m.mse),
                            number(m.relMse), number(m.rmse));
@@ -176,13 +175,13 @@ int main(int argc, char** argv)
     app.add_option("IMAGE", imagePath, "the image to measure (OpenEXR)")->required();
     app.add_option("REF", referencePath, "the reference image (OpenEXR), same size")->required();
     app.add_option("--crop", cropText, "also report the crop x,y,w,h (pixels, origin top left)");
-    app.add_option("--error-png", errorPng, "write a false-colour PNG of the per-pixel relative squared error "
-                                            "(log scale, 1e-5 .. 10)");
+    app.add_option("--error-png", errorPng,
+                   "write a false-colour PNG of the per-pixel relative squared error "
+                   "(log scale, 1e-5 .. 10)");
     app.add_option("--epsilon", epsilon, "eps of relMSE (default 0.01)");
     app.add_flag("--exact", exact,
                  "only say whether the pixels are bit-identical in every channel (float and uint; headers ignored)");
     return oas::runCli("oas-diff", app, argc, argv, [&] {
-        return exact ? compareExactly(imagePath, referencePath)
-                     : measure(imagePath, referencePath, cropText, errorPng, epsilon);
+        return exact ? compareExactly(imagePath, referencePath) : measure(imagePath, referencePath, cropText, errorPng, epsilon);
     });
 }

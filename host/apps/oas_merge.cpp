@@ -55,12 +55,11 @@ int main(int argc, char** argv)
         }
         merged.attributes["oas.writer"] = "oas-merge";
         const std::string png = oas::render::prepareRenderOutput(output, "--output");
-        oas::image::writePngPreview(png,
-                                    oas::render::writeRenderFile(output, merged.sums, merged.ranges, merged.attributes));
+        oas::image::writePngPreview(png, oas::render::writeRenderFile(output, merged.sums, merged.ranges, merged.attributes));
         std::cout << "merged " << shards.size() << " shard" << (shards.size() == 1 ? "" : "s") << ": samples "
-                  << oas::render::formatRanges(merged.ranges) << " of " << merged.attributes["oas.sppRequested"]
-                  << " (" << merged.attributes["oas.spp"] << " per pixel), rejected samples "
-                  << merged.attributes["oas.rejectedSamples"] << "\n";
+                  << oas::render::formatRanges(merged.ranges) << " of " << merged.attributes["oas.sppRequested"] << " ("
+                  << merged.attributes["oas.spp"] << " per pixel), rejected samples " << merged.attributes["oas.rejectedSamples"]
+                  << "\n";
         if (merged.attributes["oas.device"].find(" + ") != std::string::npos)
             std::cout << "note: the shards come from several devices (" << merged.attributes["oas.device"]
                       << "): a valid render of these samples, but devices round floats differently, so not "

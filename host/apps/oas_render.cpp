@@ -44,7 +44,10 @@ namespace {
 /// render after the current pass; SA_RESETHAND restores the default action on delivery, so a
 /// second one ends the process at once (the user asked twice).
 volatile std::sig_atomic_t gStopSignal = 0;
-extern "C" void onStopSignal(int sig) { gStopSignal = sig; }
+extern "C" void onStopSignal(int sig)
+{
+    gStopSignal = sig;
+}
 
 void installStopHandlers()
 {
@@ -57,7 +60,10 @@ void installStopHandlers()
     }
 }
 
-const char* signalName(int sig) { return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal"; }
+const char* signalName(int sig)
+{
+    return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
+}
 
 /// A file name from a scene's name for the default output out/<name>.exr: characters other than
 /// letters, digits, '-', '_' and '.' become '_' and leading dots are dropped, so the name can
@@ -67,8 +73,7 @@ std::string outputStem(const std::string& sceneName, const std::filesystem::path
 {
     auto clean = [](const std::string& text) {
         std::string out;
-        for (unsigned char c : text)
-            out += (std::isalnum(c) || c == '-' || c == '_' || c == '.') ? char(c) : '_';
+        for (unsigned char c : text) out += (std::isalnum(c) || c == '-' || c == '_' || c == '.') ? char(c) : '_';
         out.erase(0, out.find_first_not_of('.'));
         if (out.size() > 200) out.resize(200);
         return out;
@@ -135,145 +140,145 @@ int main(int argc, char** argv)
         app.add_option("--threads", threads, "CPU tracer workers (--device cpu), 0 .. 1024; 0: all cores")
             ->check(CLI::Range(0u, kMaxThreads));
     app.add_flag("--explain", explain, "print the dimension plan and the sampler choice, then exit");
-    return oas::runCli("oas-render", app, argc, argv, [&] {
-        if (threadsOption->count() && device != "cpu")
-            throw oas::InvalidArgument("--threads " + std::to_string(threads) +
-                                       ": the CPU tracer's workers: valid with --device cpu only");
-        oas::scene::Scene scene = oas::scene::loadScene(scenePath);
-        if (!resolution.empty())
-            std::tie(scene.width, scene.height) = oas::render::parseResolution(resolution, "--resolution");
-        const oas::render::PixelWindow window =
-            crop.empty() ? oas::render::PixelWindow{0, scene.width, 0, scene.height}
-                         : oas::render::parseCropWindow(crop, scene.width, scene.height, "--cropwindow");
-        if (!sampler.empty()) scene.sampler.name = sampler;
-        if (spp) scene.sampler.spp = spp;
-        if (!offset.empty()) scene.sampler.offset = offset;
-        if (strength) scene.sampler.strength = strength;
-        const oas::render::DimensionPlan plan = oas::render::planDimensions(scene);
+    return oas::runCli(
+        "oas-render", app, argc, argv,
+        [&] {
+            if (threadsOption->count() && device != "cpu")
+                throw oas::InvalidArgument("--threads " + std::to_string(threads) +
+                                           ": the CPU tracer's workers: valid with --device cpu only");
+            oas::scene::Scene scene = oas::scene::loadScene(scenePath);
+            if (!resolution.empty())
+                std::tie(scene.width, scene.height) = oas::render::parseResolution(resolution, "--resolution");
+            const oas::render::PixelWindow window =
+                crop.empty() ? oas::render::PixelWindow{0, scene.width, 0, scene.height}
+                             : oas::render::parseCropWindow(crop, scene.width, scene.height, "--cropwindow");
+            if (!sampler.empty()) scene.sampler.name = sampler;
+            if (spp) scene.sampler.spp = spp;
+            if (!offset.empty()) scene.sampler.offset = offset;
+            if (strength) scene.sampler.strength = strength;
+            const oas::render::DimensionPlan plan = oas::render::planDimensions(scene);
 
-        const bool fromOptions = !sampler.empty() || spp || !offset.empty() || strength;
-        const oas::render::ScenePattern chosen = oas::render::scenePattern(scene, plan, fromOptions);
-        const oas::Pattern pattern = chosen.pattern;
-        const std::string& choice = chosen.choice;
-        if (explain) {
-            std::cout << "scene " << scene.name << ": " << scene.width << "x" << scene.height << ", "
-                      << scene.shapes.size() << " shapes, " << scene.lights.size() + scene.areaLightCount()
-                      << " lights\n"
-                      << "dimension plan: " << plan.explain() << "sampler: " << choice << "\n"
-                      << "samples per pixel: " << scene.sampler.spp << "\n";
-            return 0;
-        }
-        if (scene.lights.empty() && scene.areaLightCount() == 0 && !scene.hasEnvironment())
-            std::cerr << "oas-render: warning: " << scenePath
-                      << ": the scene has no light (no emitting material on a shape, no point or spot light, no "
-                         "environment): it renders black\n";
-        const oas::render::SampleRange range = samples.empty()
-                                                   ? oas::render::SampleRange{0, scene.sampler.spp}
-                                                   : oas::render::parseSampleRange(samples, scene.sampler.spp, "--samples");
-        if (output.empty()) output = "out/" + outputStem(scene.name, scene.path) + ".exr";
-        const std::string png = oas::render::prepareRenderOutput(output, "--output");
-
-        const std::uint64_t imageBytes = std::uint64_t(scene.width) * scene.height * oas::render::kSumWords * 4;
-        const auto outOfMemory = [&](const char* what) {
-            return std::runtime_error(
-                "cannot allocate " + std::string(what) + " for a " + std::to_string(scene.width) + "x" +
-                std::to_string(scene.height) + " image (" + std::to_string(imageBytes >> 20) +
-                " MiB per copy of the sums): valid a resolution this machine can hold");
-        };
-        const oas::render::SceneData data = oas::render::flattenScene(scene);
-        std::unique_ptr<oas::vk::Context> context;
-        std::unique_ptr<oas::render::GpuTracer> gpu;
-        std::string where = "CPU reference tracer";
-        if (device == "gpu") {
-            oas::vk::selectLavapipeIfUnset();
-            context = std::make_unique<oas::vk::Context>();
-            where = context->deviceName();
-            std::cerr << "building the path-tracing pipeline for this plan on " << where
-                      << (context->isLavapipe() ? " (lavapipe compiles it with LLVM: about 2 s)" : "") << "...\n";
-            gpu = std::make_unique<oas::render::GpuTracer>(*context, data, plan, pattern);
-            std::fprintf(stderr, "pipeline built in %.2f s\n", gpu->pipelineBuildSeconds());
-        }
-        const std::string part = samples.empty() ? "" : ", samples " + oas::render::formatRanges({range});
-        const std::string cropped =
-            crop.empty() ? "" : ", crop " + oas::render::formatCropWindow(window, scene.width, scene.height);
-        std::cerr << "rendering " << scene.name << " (" << scene.width << "x" << scene.height << cropped << ", "
-                  << scene.sampler.spp << " spp" << part << ", " << plan.usedDims << "D) on " << where << "\n"
-                  << "sampler: " << choice << "\n";
-        installStopHandlers();
-        oas::render::Accumulation cpuSums;
-        try {
-            if (!gpu) cpuSums = oas::render::Accumulation(scene.width, scene.height);
-        } catch (const std::bad_alloc&) {
-            throw outOfMemory("the accumulation buffer");
-        }
-        Progress progress(range.size());
-        const auto start = std::chrono::steady_clock::now();
-        const std::uint32_t done = oas::render::forEachBatch(
-            window.width(), window.height(), range.end, oas::render::samplesPerBatch(plan), seed,
-            [&](oas::render::SampleBatch batch) {  // the window's tiles, placed in the frame
-                batch.x0 += window.x0;
-                batch.y0 += window.y0;
-                if (gpu)
-                    gpu->trace(batch);
-                else
-                    oas::render::traceCpu(data, plan, pattern, batch, cpuSums, threads);
-            },
-            [&](std::uint32_t samplesDone) {  // stop signals are honoured between passes
-                progress.update(samplesDone,
-                                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-                return gStopSignal == 0;
-            },
-            range.first);
-        const int stopSignal = gStopSignal;
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const oas::render::SampleRange finished{range.first, range.first + done};
-        if (stopSignal) {
-            std::cerr << "\ninterrupted by " << signalName(stopSignal) << "\n";
-            if (done == 0) {
-                std::cerr << "no pass finished: nothing written\n";
-                return 128 + stopSignal;
+            const bool fromOptions = !sampler.empty() || spp || !offset.empty() || strength;
+            const oas::render::ScenePattern chosen = oas::render::scenePattern(scene, plan, fromOptions);
+            const oas::Pattern pattern = chosen.pattern;
+            const std::string& choice = chosen.choice;
+            if (explain) {
+                std::cout << "scene " << scene.name << ": " << scene.width << "x" << scene.height << ", " << scene.shapes.size()
+                          << " shapes, " << scene.lights.size() + scene.areaLightCount() << " lights\n"
+                          << "dimension plan: " << plan.explain() << "sampler: " << choice << "\n"
+                          << "samples per pixel: " << scene.sampler.spp << "\n";
+                return 0;
             }
-        }
-        oas::render::Accumulation sums;
-        try {
-            sums = gpu ? gpu->accumulation() : std::move(cpuSums);
-            if (!crop.empty()) sums = sums.window(window.x0, window.y0, window.width(), window.height());
-        } catch (const std::bad_alloc&) {
-            throw outOfMemory("the sums read back from the device");
-        }
-        auto attributes = oas::render::renderAttributes(scene, data, plan, pattern, seed);
-        attributes["oas.renderTimeSeconds"] = std::to_string(seconds);
-        attributes["oas.device"] = where;
-        attributes["oas.pipelineBuildSeconds"] = gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0";
-        attributes["oas.writer"] = "oas-render";
-        if (!crop.empty()) {
-            attributes["oas.resolution"] = std::to_string(window.width()) + "x" + std::to_string(window.height());
-            attributes["oas.cropWindow"] = oas::render::formatCropWindow(window, scene.width, scene.height);
-        }
-        oas::image::Image image;
-        try {
-            image = oas::render::writeRenderFile(output, sums, {finished}, attributes);
-        } catch (const std::bad_alloc&) {
-            throw outOfMemory("the output image");
-        }
-        oas::image::writePngPreview(png, image);
-        const double paths = double(window.width()) * window.height() * done;
-        std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s", scene.name.c_str(), done, seconds,
-                    paths / seconds / 1e6, where.c_str());
-        if (gpu) std::printf(" (pipeline build before it: %.2f s)", gpu->pipelineBuildSeconds());
-        std::printf("\n");
-        if (const std::uint64_t rejected = sums.rejectedSamples())
-            std::printf("warning: %llu of %.0f samples had a NaN, infinite, negative or huge (>= 2^64) radiance and "
-                        "were left out of the pixel sums (oas.rejectedSamples in the EXR header)\n",
-                        static_cast<unsigned long long>(rejected), paths);
-        else
-            std::printf("rejected samples: 0\n");
-        std::printf("wrote %s (samples %s of %u) and %s\n", output.c_str(),
-                    oas::render::formatRanges({finished}).c_str(), scene.sampler.spp, png.c_str());
-        if (finished.end < range.end)
-            std::printf("to finish the frame: oas-render %s --samples %u:%u -o REST.exr (with the same options), "
-                        "then oas-merge %s REST.exr -o FULL.exr\n",
-                        scenePath.c_str(), finished.end, range.end, output.c_str());
-        return stopSignal ? 128 + stopSignal : 0;
-    }, [] { return std::string("out of memory (a smaller resolution or scene needs less)"); });
+            if (scene.lights.empty() && scene.areaLightCount() == 0 && !scene.hasEnvironment())
+                std::cerr << "oas-render: warning: " << scenePath
+                          << ": the scene has no light (no emitting material on a shape, no point or spot light, no "
+                             "environment): it renders black\n";
+            const oas::render::SampleRange range = samples.empty()
+                                                       ? oas::render::SampleRange{0, scene.sampler.spp}
+                                                       : oas::render::parseSampleRange(samples, scene.sampler.spp, "--samples");
+            if (output.empty()) output = "out/" + outputStem(scene.name, scene.path) + ".exr";
+            const std::string png = oas::render::prepareRenderOutput(output, "--output");
+
+            const std::uint64_t imageBytes = std::uint64_t(scene.width) * scene.height * oas::render::kSumWords * 4;
+            const auto outOfMemory = [&](const char* what) {
+                return std::runtime_error("cannot allocate " + std::string(what) + " for a " + std::to_string(scene.width) + "x" +
+                                          std::to_string(scene.height) + " image (" + std::to_string(imageBytes >> 20) +
+                                          " MiB per copy of the sums): valid a resolution this machine can hold");
+            };
+            const oas::render::SceneData data = oas::render::flattenScene(scene);
+            std::unique_ptr<oas::vk::Context> context;
+            std::unique_ptr<oas::render::GpuTracer> gpu;
+            std::string where = "CPU reference tracer";
+            if (device == "gpu") {
+                oas::vk::selectLavapipeIfUnset();
+                context = std::make_unique<oas::vk::Context>();
+                where = context->deviceName();
+                std::cerr << "building the path-tracing pipeline for this plan on " << where
+                          << (context->isLavapipe() ? " (lavapipe compiles it with LLVM: about 2 s)" : "") << "...\n";
+                gpu = std::make_unique<oas::render::GpuTracer>(*context, data, plan, pattern);
+                std::fprintf(stderr, "pipeline built in %.2f s\n", gpu->pipelineBuildSeconds());
+            }
+            const std::string part = samples.empty() ? "" : ", samples " + oas::render::formatRanges({range});
+            const std::string cropped =
+                crop.empty() ? "" : ", crop " + oas::render::formatCropWindow(window, scene.width, scene.height);
+            std::cerr << "rendering " << scene.name << " (" << scene.width << "x" << scene.height << cropped << ", "
+                      << scene.sampler.spp << " spp" << part << ", " << plan.usedDims << "D) on " << where << "\n"
+                      << "sampler: " << choice << "\n";
+            installStopHandlers();
+            oas::render::Accumulation cpuSums;
+            try {
+                if (!gpu) cpuSums = oas::render::Accumulation(scene.width, scene.height);
+            } catch (const std::bad_alloc&) {
+                throw outOfMemory("the accumulation buffer");
+            }
+            Progress progress(range.size());
+            const auto start = std::chrono::steady_clock::now();
+            const std::uint32_t done = oas::render::forEachBatch(
+                window.width(), window.height(), range.end, oas::render::samplesPerBatch(plan), seed,
+                [&](oas::render::SampleBatch batch) {  // the window's tiles, placed in the frame
+                    batch.x0 += window.x0;
+                    batch.y0 += window.y0;
+                    if (gpu)
+                        gpu->trace(batch);
+                    else
+                        oas::render::traceCpu(data, plan, pattern, batch, cpuSums, threads);
+                },
+                [&](std::uint32_t samplesDone) {  // stop signals are honoured between passes
+                    progress.update(samplesDone, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+                    return gStopSignal == 0;
+                },
+                range.first);
+            const int stopSignal = gStopSignal;
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const oas::render::SampleRange finished{range.first, range.first + done};
+            if (stopSignal) {
+                std::cerr << "\ninterrupted by " << signalName(stopSignal) << "\n";
+                if (done == 0) {
+                    std::cerr << "no pass finished: nothing written\n";
+                    return 128 + stopSignal;
+                }
+            }
+            oas::render::Accumulation sums;
+            try {
+                sums = gpu ? gpu->accumulation() : std::move(cpuSums);
+                if (!crop.empty()) sums = sums.window(window.x0, window.y0, window.width(), window.height());
+            } catch (const std::bad_alloc&) {
+                throw outOfMemory("the sums read back from the device");
+            }
+            auto attributes = oas::render::renderAttributes(scene, data, plan, pattern, seed);
+            attributes["oas.renderTimeSeconds"] = std::to_string(seconds);
+            attributes["oas.device"] = where;
+            attributes["oas.pipelineBuildSeconds"] = gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0";
+            attributes["oas.writer"] = "oas-render";
+            if (!crop.empty()) {
+                attributes["oas.resolution"] = std::to_string(window.width()) + "x" + std::to_string(window.height());
+                attributes["oas.cropWindow"] = oas::render::formatCropWindow(window, scene.width, scene.height);
+            }
+            oas::image::Image image;
+            try {
+                image = oas::render::writeRenderFile(output, sums, {finished}, attributes);
+            } catch (const std::bad_alloc&) {
+                throw outOfMemory("the output image");
+            }
+            oas::image::writePngPreview(png, image);
+            const double paths = double(window.width()) * window.height() * done;
+            std::printf("%s: %u spp in %.2f s, %.3f Mpaths/s on %s", scene.name.c_str(), done, seconds, paths / seconds / 1e6,
+                        where.c_str());
+            if (gpu) std::printf(" (pipeline build before it: %.2f s)", gpu->pipelineBuildSeconds());
+            std::printf("\n");
+            if (const std::uint64_t rejected = sums.rejectedSamples())
+                std::printf("warning: %llu of %.0f samples had a NaN, infinite, negative or huge (>= 2^64) radiance and "
+                            "were left out of the pixel sums (oas.rejectedSamples in the EXR header)\n",
+                            static_cast<unsigned long long>(rejected), paths);
+            else
+                std::printf("rejected samples: 0\n");
+            std::printf("wrote %s (samples %s of %u) and %s\n", output.c_str(), oas::render::formatRanges({finished}).c_str(),
+                        scene.sampler.spp, png.c_str());
+            if (finished.end < range.end)
+                std::printf("to finish the frame: oas-render %s --samples %u:%u -o REST.exr (with the same options), "
+                            "then oas-merge %s REST.exr -o FULL.exr\n",
+                            scenePath.c_str(), finished.end, range.end, output.c_str());
+            return stopSignal ? 128 + stopSignal : 0;
+        },
+        [] { return std::string("out of memory (a smaller resolution or scene needs less)"); });
 }

@@ -28,8 +28,8 @@ std::string toCsv(const std::vector<float>& values, std::uint32_t dims)
 /// NumPy .npy v1.0: little-endian float32 array of shape (points, dims).
 std::string toNpy(const std::vector<float>& values, std::uint32_t dims)
 {
-    std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': (" +
-                         std::to_string(values.size() / dims) + ", " + std::to_string(dims) + "), }";
+    std::string header = "{'descr': '<f4', 'fortran_order': False, 'shape': (" + std::to_string(values.size() / dims) + ", " +
+                         std::to_string(dims) + "), }";
     const std::size_t preamble = 10;
     while ((preamble + header.size() + 1) % 64 != 0) header += ' ';
     header += '\n';
@@ -46,9 +46,7 @@ std::string toNpy(const std::vector<float>& values, std::uint32_t dims)
 /// "X,Y" with plain decimal digits only (no sign, no spaces), each in 0 .. 2^32 - 1.
 std::pair<std::uint32_t, std::uint32_t> parsePixel(const std::string& text)
 {
-    const auto bad = [&] {
-        return oas::InvalidArgument("--pixel '" + text + "' must be X,Y with integers in 0 .. 4294967295");
-    };
+    const auto bad = [&] { return oas::InvalidArgument("--pixel '" + text + "' must be X,Y with integers in 0 .. 4294967295"); };
     const auto comma = text.find(',');
     if (comma == std::string::npos) throw bad();
     auto number = [&](const std::string& part) {
@@ -75,21 +73,22 @@ void printList(std::uint32_t spp, std::uint32_t dims, std::uint32_t strength)
             list += std::to_string(counts[i]);
         }
         if (counts.size() > 12) list += " ...";
-        std::printf("  %-20s %s\n  %-20s spp in [%u, %u]: %s\n", name.c_str(), oas::samplerDescription(name).c_str(), "",
-                    lo, hi, list.empty() ? "none" : list.c_str());
+        std::printf("  %-20s %s\n  %-20s spp in [%u, %u]: %s\n", name.c_str(), oas::samplerDescription(name).c_str(), "", lo, hi,
+                    list.empty() ? "none" : list.c_str());
     }
 }
 
 /// The pattern's words by name, in layout order, for hosts that upload it without linking oas.
 std::string patternJson(const oas::Pattern& p)
 {
-    static const char* names[16] = {"construction", "offset", "N", "s", "strength", "blockDims", "fieldP", "fieldK",
-                                    "fieldQ", "fieldPoly", "aux", "aux2", "recipS", "recipP", "recipN", "recipShifts"};
+    static const char* names[16] = {"construction", "offset",    "N",   "s",    "strength", "blockDims", "fieldP", "fieldK",
+                                    "fieldQ",       "fieldPoly", "aux", "aux2", "recipS",   "recipP",    "recipN", "recipShifts"};
     const std::uint32_t* words = &p.construction;
     std::string out = "{\n  \"describe\": \"" + oas::describe(p) + "\",\n  \"words\": [";
     for (int i = 0; i < 16; ++i) out += (i ? ", " : "") + std::to_string(words[i]);
     out += "],\n";
-    for (int i = 0; i < 16; ++i) out += "  \"" + std::string(names[i]) + "\": " + std::to_string(words[i]) + (i < 15 ? ",\n" : "\n");
+    for (int i = 0; i < 16; ++i)
+        out += "  \"" + std::string(names[i]) + "\": " + std::to_string(words[i]) + (i < 15 ? ",\n" : "\n");
     return out + "}\n";
 }
 
@@ -130,62 +129,64 @@ int main(int argc, char** argv)
                       values * (format == "npy" ? 4 : 13) / 1073741824.0, format.c_str());
         return std::string(text);
     };
-    return oas::runCli("oas-samples", app, argc, argv, [&] {
-        if (list) {
-            printList(request.spp ? request.spp : 64, request.dims, request.strength);
-            return 0;
-        }
-        if (request.spp == 0) throw oas::InvalidArgument("--spp is required (1 .. 16777216)");
-        const auto [px, py] = parsePixel(pixel);
-        oas::Pattern pattern;
-        std::string chosen = request.sampler;
-        if (request.sampler == "oa") {
-            const auto choice = oas::chooseOrthogonalArray(request);
-            pattern = choice.pattern;
-            if (explain || summary) std::cerr << choice.explanation << "\n";
-        } else {
-            pattern = oas::makePattern(request);
-            if (explain || summary) std::cerr << "pattern: " << oas::describe(pattern) << "\n";
-        }
-        if (pattern.N != request.spp)
-            std::cerr << "note: spp rounded up from " << request.spp << " to " << pattern.N << "\n";
-        if (printPattern) {
-            const std::string text = patternJson(pattern);
+    return oas::runCli(
+        "oas-samples", app, argc, argv,
+        [&] {
+            if (list) {
+                printList(request.spp ? request.spp : 64, request.dims, request.strength);
+                return 0;
+            }
+            if (request.spp == 0) throw oas::InvalidArgument("--spp is required (1 .. 16777216)");
+            const auto [px, py] = parsePixel(pixel);
+            oas::Pattern pattern;
+            std::string chosen = request.sampler;
+            if (request.sampler == "oa") {
+                const auto choice = oas::chooseOrthogonalArray(request);
+                pattern = choice.pattern;
+                if (explain || summary) std::cerr << choice.explanation << "\n";
+            } else {
+                pattern = oas::makePattern(request);
+                if (explain || summary) std::cerr << "pattern: " << oas::describe(pattern) << "\n";
+            }
+            if (pattern.N != request.spp) std::cerr << "note: spp rounded up from " << request.spp << " to " << pattern.N << "\n";
+            if (printPattern) {
+                const std::string text = patternJson(pattern);
+                if (output.empty())
+                    std::fwrite(text.data(), 1, text.size(), stdout);
+                else
+                    oas::writeFileAtomically(output, text);
+                return 0;
+            }
+            oas::SampleRequest sr;
+            sr.x0 = px;
+            sr.y0 = py;
+            sr.spp = pattern.N;
+            sr.dims = request.dims;
+            sr.seed = seed;
+            std::vector<float> values(std::size_t(sr.spp) * sr.dims);
+            if (device == "gpu") {
+                oas::vk::selectLavapipeIfUnset();
+                oas::vk::Context context;
+                oas::GpuGenerator generator(context);
+                generator.generate(pattern, sr, values.data());
+                if (explain || summary) std::cerr << "generated on " << context.deviceName() << "\n";
+            } else {
+                oas::generateCpu(pattern, sr, values.data(), 1);
+            }
+            if (summary) {
+                const auto s = oas::summarize(pattern, values.data(), sr.spp, sr.dims);
+                std::cerr << "stratification of pixel (" << px << "," << py << "), " << sr.spp << " points x " << sr.dims
+                          << " dims:\n";
+                for (auto& line : s.lines) std::cerr << line << "\n";
+            }
+            const std::string bytes = format == "npy" ? toNpy(values, sr.dims) : toCsv(values, sr.dims);
             if (output.empty())
-                std::fwrite(text.data(), 1, text.size(), stdout);
-            else
-                oas::writeFileAtomically(output, text);
+                std::fwrite(bytes.data(), 1, bytes.size(), stdout);
+            else {
+                oas::writeFileAtomically(output, bytes);
+                if (summary || explain) std::cerr << "wrote " << output << "\n";
+            }
             return 0;
-        }
-        oas::SampleRequest sr;
-        sr.x0 = px;
-        sr.y0 = py;
-        sr.spp = pattern.N;
-        sr.dims = request.dims;
-        sr.seed = seed;
-        std::vector<float> values(std::size_t(sr.spp) * sr.dims);
-        if (device == "gpu") {
-            oas::vk::selectLavapipeIfUnset();
-            oas::vk::Context context;
-            oas::GpuGenerator generator(context);
-            generator.generate(pattern, sr, values.data());
-            if (explain || summary) std::cerr << "generated on " << context.deviceName() << "\n";
-        } else {
-            oas::generateCpu(pattern, sr, values.data(), 1);
-        }
-        if (summary) {
-            const auto s = oas::summarize(pattern, values.data(), sr.spp, sr.dims);
-            std::cerr << "stratification of pixel (" << px << "," << py << "), " << sr.spp << " points x " << sr.dims
-                      << " dims:\n";
-            for (auto& line : s.lines) std::cerr << line << "\n";
-        }
-        const std::string bytes = format == "npy" ? toNpy(values, sr.dims) : toCsv(values, sr.dims);
-        if (output.empty())
-            std::fwrite(bytes.data(), 1, bytes.size(), stdout);
-        else {
-            oas::writeFileAtomically(output, bytes);
-            if (summary || explain) std::cerr << "wrote " << output << "\n";
-        }
-        return 0;
-    }, outOfMemory);
+        },
+        outOfMemory);
 }

@@ -39,8 +39,8 @@ void checkLayout(const Image& image, const char* what)
     const std::size_t expected = std::size_t(image.width) * image.height * 4;
     if (image.rgba.size() != expected)
         throw std::invalid_argument(std::string(what) + " is " + std::to_string(image.width) + "x" +
-                                    std::to_string(image.height) + " but holds " +
-                                    std::to_string(image.rgba.size()) + " floats, not " + std::to_string(expected));
+                                    std::to_string(image.height) + " but holds " + std::to_string(image.rgba.size()) +
+                                    " floats, not " + std::to_string(expected));
 }
 
 namespace {
@@ -81,8 +81,8 @@ private:
 /// Header attributes that describe the file's structure; a user string attribute may not use them.
 bool isReservedAttribute(const Imf::Header& header, const std::string& name)
 {
-    static const char* const kStructural[] = {"tiles", "type", "name", "version", "chunkCount",
-                                              "maxSamplesPerPixel", "view", "multiView"};
+    static const char* const kStructural[] = {"tiles", "type",     "name", "version", "chunkCount", "maxSamplesPerPixel",
+                                              "view",  "multiView"};
     if (header.find(name) != header.end()) return true;
     for (const char* s : kStructural)
         if (name == s) return true;
@@ -109,15 +109,14 @@ void writeExr(const std::string& path, const Image& image, const std::map<std::s
                                         "' is empty or taken by R, G, B, A");
         if (values.size() != image.pixelCount())
             throw std::invalid_argument("cannot write '" + path + "': uint channel '" + name + "' holds " +
-                                        std::to_string(values.size()) + " values for " +
-                                        std::to_string(image.pixelCount()) + " pixels");
+                                        std::to_string(values.size()) + " values for " + std::to_string(image.pixelCount()) +
+                                        " pixels");
         header.channels().insert(name, Imf::Channel(Imf::UINT));
     }
     for (const auto& [name, value] : headerAttributes) {
         if (name.empty()) throw std::invalid_argument("cannot write '" + path + "': empty EXR attribute name");
         if (isReservedAttribute(header, name))
-            throw std::invalid_argument("cannot write '" + path + "': EXR attribute name '" + name +
-                                        "' is reserved by OpenEXR");
+            throw std::invalid_argument("cannot write '" + path + "': EXR attribute name '" + name + "' is reserved by OpenEXR");
         header.insert(name, Imf::StringAttribute(value));
     }
 
@@ -125,8 +124,7 @@ void writeExr(const std::string& path, const Image& image, const std::map<std::s
     const std::size_t xStride = 4 * sizeof(float), yStride = xStride * image.width;
     const char* names[4] = {"R", "G", "B", "A"};
     for (int c = 0; c < 4; ++c)
-        frameBuffer.insert(names[c],
-                           Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, header.dataWindow(), xStride, yStride));
+        frameBuffer.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, header.dataWindow(), xStride, yStride));
     for (const auto& [name, values] : uintChannels)
         frameBuffer.insert(name, Imf::Slice::Make(Imf::UINT, values.data(), header.dataWindow(), sizeof(std::uint32_t),
                                                   sizeof(std::uint32_t) * image.width));
@@ -134,8 +132,7 @@ void writeExr(const std::string& path, const Image& image, const std::map<std::s
     oas::removeStaleTemporaries(path);
     const std::string tmp = oas::temporaryPathFor(path);
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0)
-        throw std::runtime_error("cannot write '" + path + "' (open '" + tmp + "'): " + std::strerror(errno));
+    if (fd < 0) throw std::runtime_error("cannot write '" + path + "' (open '" + tmp + "'): " + std::strerror(errno));
     std::FILE* file = ::fdopen(fd, "wb");
     if (!file) {
         const std::string reason = std::strerror(errno);
@@ -159,8 +156,7 @@ void writeExr(const std::string& path, const Image& image, const std::map<std::s
     }
     if (std::fflush(file) != 0 && error.empty()) error = std::string("write: ") + std::strerror(errno);
     if (std::fclose(file) != 0 && error.empty()) error = std::string("close: ") + std::strerror(errno);
-    if (error.empty() && std::rename(tmp.c_str(), path.c_str()) != 0)
-        error = std::string("rename: ") + std::strerror(errno);
+    if (error.empty() && std::rename(tmp.c_str(), path.c_str()) != 0) error = std::string("rename: ") + std::strerror(errno);
     if (!error.empty()) {
         std::remove(tmp.c_str());
         throw std::runtime_error("cannot write '" + path + "': " + error);
@@ -183,8 +179,7 @@ Image readExr(const std::string& path, std::map<std::string, std::string>* attri
         if (!missing.empty()) {
             for (auto it = header.channels().begin(); it != header.channels().end(); ++it)
                 present += (present.empty() ? "" : ", ") + std::string(it.name());
-            throw std::runtime_error("no " + missing + " channel (it has: " + (present.empty() ? "none" : present) +
-                                     ")");
+            throw std::runtime_error("no " + missing + " channel (it has: " + (present.empty() ? "none" : present) + ")");
         }
 
         Image image;
@@ -195,8 +190,8 @@ Image readExr(const std::string& path, std::map<std::string, std::string>* attri
         const std::size_t xStride = 4 * sizeof(float), yStride = xStride * std::size_t(w);
         const char* names[4] = {"R", "G", "B", "A"};
         for (int c = 0; c < 4; ++c)
-            frameBuffer.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, dataWindow, xStride,
-                                                          yStride, 1, 1, c == 3 ? 1.0 : 0.0));
+            frameBuffer.insert(names[c], Imf::Slice::Make(Imf::FLOAT, image.rgba.data() + c, dataWindow, xStride, yStride, 1, 1,
+                                                          c == 3 ? 1.0 : 0.0));
         if (uintChannels) {
             uintChannels->clear();
             for (auto it = header.channels().begin(); it != header.channels().end(); ++it) {
@@ -205,8 +200,8 @@ Image readExr(const std::string& path, std::map<std::string, std::string>* attri
                     throw std::runtime_error(std::string("uint channel '") + it.name() + "' is subsampled");
                 std::vector<std::uint32_t>& values = (*uintChannels)[it.name()];
                 values.assign(std::size_t(w) * std::size_t(h), 0u);
-                frameBuffer.insert(it.name(), Imf::Slice::Make(Imf::UINT, values.data(), dataWindow,
-                                                                sizeof(std::uint32_t), sizeof(std::uint32_t) * std::size_t(w)));
+                frameBuffer.insert(it.name(), Imf::Slice::Make(Imf::UINT, values.data(), dataWindow, sizeof(std::uint32_t),
+                                                               sizeof(std::uint32_t) * std::size_t(w)));
             }
         }
         file.setFrameBuffer(frameBuffer);

@@ -22,10 +22,7 @@ struct Image {
 
     std::size_t pixelCount() const { return std::size_t(width) * height; }
     float* pixel(std::uint32_t x, std::uint32_t y) { return rgba.data() + (std::size_t(y) * width + x) * 4; }
-    const float* pixel(std::uint32_t x, std::uint32_t y) const
-    {
-        return rgba.data() + (std::size_t(y) * width + x) * 4;
-    }
+    const float* pixel(std::uint32_t x, std::uint32_t y) const { return rgba.data() + (std::size_t(y) * width + x) * 4; }
 };
 
 /// Throws std::invalid_argument unless rgba.size() == width * height * 4 (`what` names the image).
@@ -43,8 +40,8 @@ using UintChannels = std::map<std::string, std::vector<std::uint32_t>>;
 /// ...). The file is written to "<path>.tmp.<pid>.<n>" and renamed over `path`.
 /// Throws std::invalid_argument for a malformed image / attribute name, std::runtime_error naming
 /// `path` when the file cannot be written (the temporary file is removed, `path` is untouched).
-void writeExr(const std::string& path, const Image& image,
-              const std::map<std::string, std::string>& headerAttributes = {}, const UintChannels& uintChannels = {});
+void writeExr(const std::string& path, const Image& image, const std::map<std::string, std::string>& headerAttributes = {},
+              const UintChannels& uintChannels = {});
 
 /// Reads the R, G, B and (optional, default 1) A channels of an OpenEXR file's data window (part 0
 /// of a multi-part file; scanline or tiled); half, float and uint channels are converted to float.

@@ -65,8 +65,8 @@ NonFinitePixels findNonFinite(const Image& image, std::size_t keep)
 
 std::string describeNonFinite(const Image& image, const NonFinitePixels& bad)
 {
-    std::string text = std::to_string(bad.count) + (bad.count == 1 ? " pixel holds" : " pixels hold") +
-                       " NaN or infinite values, first at";
+    std::string text =
+        std::to_string(bad.count) + (bad.count == 1 ? " pixel holds" : " pixels hold") + " NaN or infinite values, first at";
     for (const auto& [x, y] : bad.first) {
         const float* p = &image.rgba[(std::size_t(y) * image.width + x) * 4];
         char rgb[96];
@@ -125,8 +125,7 @@ std::array<double, 3> oklabToLinearSrgb(const Lab& lab)
     const double m_ = lab.L - 0.1055613458 * lab.a - 0.0638541728 * lab.b;
     const double s_ = lab.L - 0.0894841775 * lab.a - 1.2914855480 * lab.b;
     const double l = l_ * l_ * l_, m = m_ * m_ * m_, s = s_ * s_ * s_;
-    return {+4.0767416621 * l - 3.3077115913 * m + 0.2309699292 * s,
-            -1.2684380046 * l + 2.6097574011 * m - 0.3413193965 * s,
+    return {+4.0767416621 * l - 3.3077115913 * m + 0.2309699292 * s, -1.2684380046 * l + 2.6097574011 * m - 0.3413193965 * s,
             -0.0041960863 * l - 0.7034186147 * m + 1.7076147010 * s};
 }
 
@@ -175,8 +174,7 @@ std::array<float, 3> errorRamp(double t)
         }
         rgb = at(lo);
     }
-    return {float(std::clamp(rgb[0], 0.0, 1.0)), float(std::clamp(rgb[1], 0.0, 1.0)),
-            float(std::clamp(rgb[2], 0.0, 1.0))};
+    return {float(std::clamp(rgb[0], 0.0, 1.0)), float(std::clamp(rgb[1], 0.0, 1.0)), float(std::clamp(rgb[2], 0.0, 1.0))};
 }
 
 Image falseColourError(const Image& image, const Image& reference, const FalseColourOptions& options)

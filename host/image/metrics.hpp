@@ -41,8 +41,7 @@ std::string describeNonFinite(const Image& image, const NonFinitePixels& bad);
 /// Compares `image` with `reference` over the whole image or `crop`. Throws std::invalid_argument
 /// naming the sizes when the images differ in size or are empty, when the crop is empty or not
 /// inside the image, or when relEpsilon is not a finite positive number.
-ErrorMetrics compare(const Image& image, const Image& reference, std::optional<Crop> crop = {},
-                     double relEpsilon = 1e-2);
+ErrorMetrics compare(const Image& image, const Image& reference, std::optional<Crop> crop = {}, double relEpsilon = 1e-2);
 
 /// Per-pixel relative squared error, mean over R, G, B of (I - R)^2 / (R^2 + relEpsilon), shown
 /// on a log scale: t = (log10 e - log10 minError) / (log10 maxError - log10 minError), clamped to

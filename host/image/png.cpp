@@ -42,11 +42,11 @@ std::vector<std::uint8_t> srgb8(const Image& image, float exposure)
 std::string encodePngRgb8(std::uint32_t width, std::uint32_t height, const std::vector<std::uint8_t>& rgb)
 {
     if (width == 0 || height == 0 || width > INT_MAX / 3 || height > INT_MAX)
-        throw std::invalid_argument("a PNG preview must be 1x1 .. 715827882 wide, not " + std::to_string(width) +
-                                    "x" + std::to_string(height));
+        throw std::invalid_argument("a PNG preview must be 1x1 .. 715827882 wide, not " + std::to_string(width) + "x" +
+                                    std::to_string(height));
     if (rgb.size() != std::size_t(width) * height * 3)
-        throw std::invalid_argument("PNG pixels: " + std::to_string(rgb.size()) + " bytes for " + std::to_string(width) +
-                                    "x" + std::to_string(height) + " RGB");
+        throw std::invalid_argument("PNG pixels: " + std::to_string(rgb.size()) + " bytes for " + std::to_string(width) + "x" +
+                                    std::to_string(height) + " RGB");
     std::string bytes;
     auto append = [](void* context, void* data, int size) {
         static_cast<std::string*>(context)->append(static_cast<const char*>(data), std::size_t(size));
@@ -61,8 +61,8 @@ std::string encodePngPreview(const Image& image, float exposure)
 {
     checkLayout(image);
     if (image.width == 0 || image.height == 0 || image.width > INT_MAX / 3 || image.height > INT_MAX)
-        throw std::invalid_argument("a PNG preview must be 1x1 .. 715827882 wide, not " + std::to_string(image.width) +
-                                    "x" + std::to_string(image.height));
+        throw std::invalid_argument("a PNG preview must be 1x1 .. 715827882 wide, not " + std::to_string(image.width) + "x" +
+                                    std::to_string(image.height));
     return encodePngRgb8(image.width, image.height, srgb8(image, exposure));
 }
 

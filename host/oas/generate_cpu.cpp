@@ -9,7 +9,10 @@
 namespace oas {
 using glsl::toGlsl;
 
-std::uint32_t pixelSeed(std::uint32_t x, std::uint32_t y, std::uint32_t seed) { return glsl::oas_pixel_seed(x, y, seed); }
+std::uint32_t pixelSeed(std::uint32_t x, std::uint32_t y, std::uint32_t seed)
+{
+    return glsl::oas_pixel_seed(x, y, seed);
+}
 
 float sample(const Pattern& pattern, std::uint32_t seed, std::uint32_t index, std::uint32_t dim)
 {

@@ -11,8 +11,8 @@
 
 namespace oas {
 namespace {
-constexpr std::uint32_t kLocalSize = 64;          // local_size_x of oas_generate.comp
-constexpr std::uint32_t kGroupDims = 2;           // OAS_GROUP_DIMS of oas_generate.comp (OAs)
+constexpr std::uint32_t kLocalSize = 64;  // local_size_x of oas_generate.comp
+constexpr std::uint32_t kGroupDims = 2;   // OAS_GROUP_DIMS of oas_generate.comp (OAs)
 // Baselines: one sample x 8 dims per invocation, so neighbouring lanes take the same dimensions
 // of neighbouring samples (the same Halton base and Sobol direction numbers in every lane).
 constexpr std::uint32_t kBaselineGroupDims = 8;
@@ -75,7 +75,8 @@ vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
         vk::ComputePipeline::SpecConstants spec;
         if (specialised) spec = {{0, std::get<0>(key)}, {1, std::get<1>(key)}, {2, std::get<2>(key)}};
         const auto start = std::chrono::steady_clock::now();
-        slot = std::make_unique<vk::ComputePipeline>(context_, spirv.code, spirv.bytes, 2, std::uint32_t(sizeof(GenerateParams)), spec);
+        slot = std::make_unique<vk::ComputePipeline>(context_, spirv.code, spirv.bytes, 2, std::uint32_t(sizeof(GenerateParams)),
+                                                     spec);
         pipelineBuildSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     return *slot;
@@ -102,8 +103,7 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
     const std::uint64_t totalRuns = pixels * layout.runs;
     if (totalPoints > 0xffffffffull || totalRuns * layout.groups > 0xffffffffull)
         throw InvalidArgument("width * height * spp = " + std::to_string(totalPoints) + " (" +
-                              std::to_string(totalRuns * layout.groups) +
-                              " work items) exceeds 2^32 - 1; split the request");
+                              std::to_string(totalRuns * layout.groups) + " work items) exceeds 2^32 - 1; split the request");
     // Chunks are whole runs, so a chunk's points are contiguous in the output.
     const auto& limits = context_.limits();
     const std::uint64_t byGroupCount = std::uint64_t(limits.maxComputeWorkGroupCount[0]) * kLocalSize *
@@ -134,9 +134,21 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
         const std::uint64_t firstPoint = pointOfRun(first);
         const std::uint64_t endPoint = first + runs == totalRuns ? totalPoints : pointOfRun(first + runs);
         const auto items = std::uint32_t(runs * layout.groups);
-        GenerateParams params{pattern, r.x0, r.y0, r.width, r.spp, r.dims, r.seed, std::uint32_t(first * layout.groups),
-                              items, r.firstSample, layout.samplesPerRun, layout.groupsPerBlock, layout.groups,
-                              std::uint32_t(firstPoint), kBaselineGroupDims};
+        GenerateParams params{pattern,
+                              r.x0,
+                              r.y0,
+                              r.width,
+                              r.spp,
+                              r.dims,
+                              r.seed,
+                              std::uint32_t(first * layout.groups),
+                              items,
+                              r.firstSample,
+                              layout.samplesPerRun,
+                              layout.groupsPerBlock,
+                              layout.groups,
+                              std::uint32_t(firstPoint),
+                              kBaselineGroupDims};
         const std::uint32_t workGroups = (items + kLocalSize - 1) / kLocalSize;
         const std::uint32_t gx = std::min(workGroups, maxGroupsX);
         const std::uint32_t gy = (workGroups + gx - 1) / gx;

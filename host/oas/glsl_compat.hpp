@@ -27,19 +27,28 @@ inline void umulExtended(uint x, uint y, uint& msb, uint& lsb)
 }
 
 /// GLSL bitCount: the number of set bits.
-inline int bitCount(uint v) { return std::popcount(v); }
+inline int bitCount(uint v)
+{
+    return std::popcount(v);
+}
 
 /// GLSL findMSB: index of the highest set bit, -1 for 0.
-inline int findMSB(uint v) { return v == 0 ? -1 : 31 - std::countl_zero(v); }
+inline int findMSB(uint v)
+{
+    return v == 0 ? -1 : 31 - std::countl_zero(v);
+}
 
 /// GLSL min for uints.
-inline uint min(uint a, uint b) { return a < b ? a : b; }
+inline uint min(uint a, uint b)
+{
+    return a < b ? a : b;
+}
 
 // The library's [[unroll]] marks are GLSL's (GL_EXT_control_flow_attributes); C++ needs none.
 #define OAS_UNROLL
 
 // The C++ twin has the Sobol baseline: its direction numbers come from the host's table.
-#define OAS_SOBOL_DIRECTION(dim, bit) (::oas::sobolDirections()[(dim) * 32u + (bit)])
+#define OAS_SOBOL_DIRECTION(dim, bit) (::oas::sobolDirections()[(dim)*32u + (bit)])
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"

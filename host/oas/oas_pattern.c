@@ -37,7 +37,10 @@ static uint32_t oasp_integer_root(uint32_t n, uint32_t t)
     if (hi > 65536) hi = 65536; /* t >= 2 and n < 2^32 */
     while (lo < hi) {
         const uint32_t mid = lo + (hi - lo + 1) / 2;
-        if (oasp_pow_capped(mid, t, n) != 0) lo = mid; else hi = mid - 1;
+        if (oasp_pow_capped(mid, t, n) != 0)
+            lo = mid;
+        else
+            hi = mid - 1;
     }
     return lo;
 }
@@ -66,7 +69,7 @@ int oas_prime_power(uint32_t q, uint32_t* p, uint32_t* k)
 void oas_divisor(uint32_t d, uint32_t* recip, uint32_t* shift)
 {
     uint32_t l = 0;
-    if (d == 0) d = 1; /* documented precondition; keep the result defined */
+    if (d == 0) d = 1;                  /* documented precondition; keep the result defined */
     while (((uint64_t)1 << l) < d) ++l; /* ceil(log2 d) */
     *recip = (uint32_t)((((uint64_t)1 << 32) * (((uint64_t)1 << l) - d)) / d + 1);
     *shift = l;
@@ -152,10 +155,17 @@ static const struct {
     const char* name;
     uint32_t code;
 } oasp_names[] = {
-    {"bose", OAS_BOSE},       {"bush", OAS_BUSH},          {"bose-bush", OAS_BOSE_BUSH},
-    {"addelman-kempthorne", OAS_ADDELMAN_KEMPTHORNE},      {"cmjnd", OAS_CMJND},
-    {"random", OAS_RANDOM},   {"jittered2d", OAS_JITTERED_2D}, {"cmj2d", OAS_CMJ_2D},
-    {"zerotwo", OAS_ZERO_TWO}, {"halton", OAS_HALTON},     {"sobol", OAS_SOBOL},
+    {"bose", OAS_BOSE},
+    {"bush", OAS_BUSH},
+    {"bose-bush", OAS_BOSE_BUSH},
+    {"addelman-kempthorne", OAS_ADDELMAN_KEMPTHORNE},
+    {"cmjnd", OAS_CMJND},
+    {"random", OAS_RANDOM},
+    {"jittered2d", OAS_JITTERED_2D},
+    {"cmj2d", OAS_CMJ_2D},
+    {"zerotwo", OAS_ZERO_TWO},
+    {"halton", OAS_HALTON},
+    {"sobol", OAS_SOBOL},
 };
 #define OASP_NAME_COUNT (sizeof oasp_names / sizeof oasp_names[0])
 
@@ -199,8 +209,10 @@ static int oasp_field_supported(uint32_t q, char* why, size_t whyLen)
     bound = 2 * k * (p - 1) * (p - 1) + 2 * (p - 1);
     while (bound >> bits) ++bits;
     if (k * bits <= 32) return 1;
-    oasp_say(why, whyLen, "q = %u = %u^%u: the shaders' fixed-work GF(%u^%u) arithmetic needs %u digit slots of %u bits, "
-             "more than 32", q, p, k, p, k, k, bits);
+    oasp_say(why, whyLen,
+             "q = %u = %u^%u: the shaders' fixed-work GF(%u^%u) arithmetic needs %u digit slots of %u bits, "
+             "more than 32",
+             q, p, k, p, k, k, bits);
     return 0;
 }
 
@@ -221,25 +233,46 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
     uint32_t q, p = 0, k = 0;
     switch (code) {
     case OAS_BOSE:
-        if (t != 2) { oasp_say(why, whyLen, "bose has strength 2 only"); return OAS_PATTERN_NOT_EXACT; }
+        if (t != 2) {
+            oasp_say(why, whyLen, "bose has strength 2 only");
+            return OAS_PATTERN_NOT_EXACT;
+        }
         q = oasp_integer_root(spp, 2);
-        if (q * q != spp) { oasp_say(why, whyLen, "%u is not a square q^2", spp); return OAS_PATTERN_NOT_EXACT; }
-        if (!oas_prime_power(q, NULL, NULL)) { oasp_say(why, whyLen, "q = %u is not a prime power", q); return OAS_PATTERN_NOT_EXACT; }
-        if (q > OAS_MAX_BOSE_Q) { oasp_say(why, whyLen, "q = %u exceeds 4096", q); return OAS_PATTERN_NOT_EXACT; }
+        if (q * q != spp) {
+            oasp_say(why, whyLen, "%u is not a square q^2", spp);
+            return OAS_PATTERN_NOT_EXACT;
+        }
+        if (!oas_prime_power(q, NULL, NULL)) {
+            oasp_say(why, whyLen, "q = %u is not a prime power", q);
+            return OAS_PATTERN_NOT_EXACT;
+        }
+        if (q > OAS_MAX_BOSE_Q) {
+            oasp_say(why, whyLen, "q = %u exceeds 4096", q);
+            return OAS_PATTERN_NOT_EXACT;
+        }
         if (!oasp_field_supported(q, why, whyLen)) return OAS_PATTERN_NOT_EXACT;
         pat->s = q;
         pat->blockDims = q + 1;
         oasp_set_field(pat, q);
         return OAS_PATTERN_OK;
     case OAS_BUSH:
-        if (t < 2) { oasp_say(why, whyLen, "bush needs strength t >= 2"); return OAS_PATTERN_NOT_EXACT; }
+        if (t < 2) {
+            oasp_say(why, whyLen, "bush needs strength t >= 2");
+            return OAS_PATTERN_NOT_EXACT;
+        }
         q = oasp_integer_root(spp, t);
         if (q < 2 || oasp_pow_capped(q, t, OAS_MAX_SAMPLES) != spp) {
             oasp_say(why, whyLen, "%u is not q^%u", spp, t);
             return OAS_PATTERN_NOT_EXACT;
         }
-        if (!oas_prime_power(q, NULL, NULL)) { oasp_say(why, whyLen, "q = %u is not a prime power", q); return OAS_PATTERN_NOT_EXACT; }
-        if (q < t) { oasp_say(why, whyLen, "bush needs q >= t (q = %u, t = %u)", q, t); return OAS_PATTERN_NOT_EXACT; }
+        if (!oas_prime_power(q, NULL, NULL)) {
+            oasp_say(why, whyLen, "q = %u is not a prime power", q);
+            return OAS_PATTERN_NOT_EXACT;
+        }
+        if (q < t) {
+            oasp_say(why, whyLen, "bush needs q >= t (q = %u, t = %u)", q, t);
+            return OAS_PATTERN_NOT_EXACT;
+        }
         if (!oasp_field_supported(q, why, whyLen)) return OAS_PATTERN_NOT_EXACT;
         pat->s = q;
         pat->blockDims = q + 1;
@@ -250,12 +283,24 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
     case OAS_ADDELMAN_KEMPTHORNE: {
         const int bb = code == OAS_BOSE_BUSH;
         const char* name = bb ? "bose-bush" : "addelman-kempthorne";
-        if (t != 2) { oasp_say(why, whyLen, "%s has strength 2 only", name); return OAS_PATTERN_NOT_EXACT; }
+        if (t != 2) {
+            oasp_say(why, whyLen, "%s has strength 2 only", name);
+            return OAS_PATTERN_NOT_EXACT;
+        }
         q = oasp_integer_root(spp / 2, 2);
-        if (spp % 2 != 0 || 2 * q * q != spp) { oasp_say(why, whyLen, "%u is not 2q^2", spp); return OAS_PATTERN_NOT_EXACT; }
+        if (spp % 2 != 0 || 2 * q * q != spp) {
+            oasp_say(why, whyLen, "%u is not 2q^2", spp);
+            return OAS_PATTERN_NOT_EXACT;
+        }
         if (!oas_prime_power(q, &p, &k)) p = 0;
-        if (bb && p != 2) { oasp_say(why, whyLen, "q = %u is not a power of two", q); return OAS_PATTERN_NOT_EXACT; }
-        if (!bb && (p == 0 || p == 2)) { oasp_say(why, whyLen, "q = %u is not an odd prime power", q); return OAS_PATTERN_NOT_EXACT; }
+        if (bb && p != 2) {
+            oasp_say(why, whyLen, "q = %u is not a power of two", q);
+            return OAS_PATTERN_NOT_EXACT;
+        }
+        if (!bb && (p == 0 || p == 2)) {
+            oasp_say(why, whyLen, "q = %u is not an odd prime power", q);
+            return OAS_PATTERN_NOT_EXACT;
+        }
         if (!oasp_field_supported(q, why, whyLen)) return OAS_PATTERN_NOT_EXACT;
         pat->s = q;
         pat->blockDims = 2 * q + 1;
@@ -271,12 +316,18 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
             f.g = pat->fieldPoly;
             /* The smallest non-square: a^((q-1)/2) != 1 (Euler's criterion in GF(q)). */
             for (a = 1; a < q; ++a)
-                if (oasp_pow(&f, a, (q - 1) / 2) != 1) { pat->aux = a; break; }
+                if (oasp_pow(&f, a, (q - 1) / 2) != 1) {
+                    pat->aux = a;
+                    break;
+                }
         }
         return OAS_PATTERN_OK;
     }
     case OAS_CMJND:
-        if (t < 1) { oasp_say(why, whyLen, "cmjnd needs d >= 1 dimensions"); return OAS_PATTERN_NOT_EXACT; }
+        if (t < 1) {
+            oasp_say(why, whyLen, "cmjnd needs d >= 1 dimensions");
+            return OAS_PATTERN_NOT_EXACT;
+        }
         q = oasp_integer_root(spp, t);
         if (q < 2 || oasp_pow_capped(q, t, OAS_MAX_SAMPLES) != spp) {
             oasp_say(why, whyLen, "%u is not s^%u with s >= 2", spp, t);
@@ -288,9 +339,10 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
     default: { /* the baselines take any N */
         uint32_t nx = oasp_integer_root(spp, 2);
         pat->s = spp;
-        pat->blockDims = code == OAS_HALTON ? OAS_HALTON_BLOCK_DIMS
-                         : code == OAS_SOBOL ? OAS_SOBOL_BLOCK_DIMS
-                         : code == OAS_RANDOM ? 1 : 2;
+        pat->blockDims = code == OAS_HALTON   ? OAS_HALTON_BLOCK_DIMS
+                         : code == OAS_SOBOL  ? OAS_SOBOL_BLOCK_DIMS
+                         : code == OAS_RANDOM ? 1
+                                              : 2;
         pat->strength = code == OAS_RANDOM ? 0 : (code == OAS_HALTON || code == OAS_SOBOL ? 1 : 2);
         /* The 2D grid nx * ny = N with nx the largest divisor <= sqrt(N): squares give n x n,
          * primes a 1 x N grid (then jittered2d is a 1D stratification of the second axis). */
@@ -302,8 +354,8 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
     }
 }
 
-int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uint32_t offset,
-                     OasPattern* out, char* why, size_t whyLen)
+int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uint32_t offset, OasPattern* out, char* why,
+                     size_t whyLen)
 {
     OasPattern pat;
     uint32_t shiftS, shiftP, shiftN;
@@ -313,7 +365,10 @@ int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uin
     memset(&pat, 0, sizeof pat);
     if (out) memset(out, 0, sizeof *out);
     if (why && whyLen) why[0] = '\0';
-    if (out == NULL) { oasp_say(why, whyLen, "out is NULL"); return OAS_PATTERN_BAD_ARGUMENT; }
+    if (out == NULL) {
+        oasp_say(why, whyLen, "out is NULL");
+        return OAS_PATTERN_BAD_ARGUMENT;
+    }
     if (oas_construction_name(code) == NULL) {
         oasp_say(why, whyLen, "construction %u is unknown: valid 1 .. 5 (orthogonal arrays), 16 .. 21 (baselines)", code);
         return OAS_PATTERN_BAD_ARGUMENT;
@@ -375,8 +430,7 @@ static int oasp_count(OaspCounts* c, uint32_t n)
 
 /* The rules of oasp_fields, run forwards: each construction's N as a function of its q (or s),
  * for the q the construction is defined for, within the limits oas_make_pattern enforces. */
-size_t oas_valid_counts(uint32_t construction, uint32_t strength, uint32_t lo, uint32_t hi,
-                        uint32_t* out, size_t capacity)
+size_t oas_valid_counts(uint32_t construction, uint32_t strength, uint32_t lo, uint32_t hi, uint32_t* out, size_t capacity)
 {
     OaspCounts c;
     uint32_t q, n;

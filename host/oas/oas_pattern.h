@@ -26,14 +26,14 @@ extern "C" {
  *  uint32_t in the same order under the same names (tests/pattern_test.cpp reads both sources and
  *  compares the field lists). The C++ oas::Pattern derives from this struct rather than restating it. */
 typedef struct OasPattern {
-    uint32_t construction; /**< OAS_BOSE ... OAS_SOBOL */
-    uint32_t offset;       /**< OAS_OFFSET_* (0 for the baselines) */
-    uint32_t N;            /**< points per pixel in one OA (one pass) */
-    uint32_t s;            /**< levels per dimension */
-    uint32_t strength;     /**< t */
-    uint32_t blockDims;    /**< dimensions per independently randomized block */
-    uint32_t fieldP, fieldK, fieldQ, fieldPoly; /**< GF(p^k), q = p^k, x^k = poly(x) */
-    uint32_t aux, aux2;    /**< per construction, see docs/PATTERN.md */
+    uint32_t construction;                        /**< OAS_BOSE ... OAS_SOBOL */
+    uint32_t offset;                              /**< OAS_OFFSET_* (0 for the baselines) */
+    uint32_t N;                                   /**< points per pixel in one OA (one pass) */
+    uint32_t s;                                   /**< levels per dimension */
+    uint32_t strength;                            /**< t */
+    uint32_t blockDims;                           /**< dimensions per independently randomized block */
+    uint32_t fieldP, fieldK, fieldQ, fieldPoly;   /**< GF(p^k), q = p^k, x^k = poly(x) */
+    uint32_t aux, aux2;                           /**< per construction, see docs/PATTERN.md */
     uint32_t recipS, recipP, recipN, recipShifts; /**< division constants for s, p, N */
 } OasPattern;
 
@@ -57,8 +57,8 @@ enum {
     OAS_MAX_BOSE_Q = 4096,     /**< q^2 <= 2^24 */
     OAS_MAX_FIELD_Q = 65535,   /**< products of two field elements fit 32 bits */
     OAS_MAX_STRENGTH = 24,
-    OAS_HALTON_BLOCK_DIMS = 32,    /**< the GLSL's OAS_HALTON_BLOCK (oas_baselines.glsl) */
-    OAS_SOBOL_BLOCK_DIMS = 1024    /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc);
+    OAS_HALTON_BLOCK_DIMS = 32, /**< the GLSL's OAS_HALTON_BLOCK (oas_baselines.glsl) */
+    OAS_SOBOL_BLOCK_DIMS = 1024 /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc);
                                         the GLSL's OAS_SOBOL_BLOCK */
 };
 /* GLSL cannot include this header, so shaders/oas restates the codes, offsets and block sizes;
@@ -67,8 +67,8 @@ enum {
 /** Status codes (0 is success). */
 enum {
     OAS_PATTERN_OK = 0,
-    OAS_PATTERN_BAD_ARGUMENT = 1,  /**< construction, offset, spp or strength out of range */
-    OAS_PATTERN_NOT_EXACT = 2      /**< this construction cannot make exactly `spp` points */
+    OAS_PATTERN_BAD_ARGUMENT = 1, /**< construction, offset, spp or strength out of range */
+    OAS_PATTERN_NOT_EXACT = 2     /**< this construction cannot make exactly `spp` points */
 };
 
 /**
@@ -78,8 +78,8 @@ enum {
  * ignored (stored as 0) by the baselines. On failure *out is zeroed and, when why != NULL, a
  * NUL-terminated message (at most whyLen bytes) names the value and the rule it breaks.
  */
-int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uint32_t offset,
-                     OasPattern* out, char* why, size_t whyLen);
+int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uint32_t offset, OasPattern* out, char* why,
+                     size_t whyLen);
 
 /** The constructions in their listing order, the orthogonal arrays first: index 0, 1, ... gives
  *  each code once, then 0 past the last. Tools list samplers in this order. */
@@ -105,8 +105,7 @@ const char* oas_construction_name(uint32_t construction);
  * one 32-bit word. `strength` 0 means the default, as for oas_make_pattern (2; none for cmjnd,
  * which then has no counts); an unknown construction or strength > OAS_MAX_STRENGTH has none.
  */
-size_t oas_valid_counts(uint32_t construction, uint32_t strength, uint32_t lo, uint32_t hi,
-                        uint32_t* out, size_t capacity);
+size_t oas_valid_counts(uint32_t construction, uint32_t strength, uint32_t lo, uint32_t hi, uint32_t* out, size_t capacity);
 
 /** q = p^k with p prime: returns 1 and sets *p, *k; else 0. */
 int oas_prime_power(uint32_t q, uint32_t* p, uint32_t* k);

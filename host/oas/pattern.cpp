@@ -88,8 +88,7 @@ std::string countList(const std::vector<std::uint32_t>& counts)
 }
 
 /// Nearest valid counts below and above spp (either may be missing).
-std::vector<std::uint32_t> nearestCounts(const std::string& sampler, std::uint32_t t, std::uint32_t dims,
-                                         std::uint32_t spp)
+std::vector<std::uint32_t> nearestCounts(const std::string& sampler, std::uint32_t t, std::uint32_t dims, std::uint32_t spp)
 {
     std::vector<std::uint32_t> all = validCounts(sampler, t, dims, 1, kMaxSamples);
     std::vector<std::uint32_t> near;
@@ -102,11 +101,9 @@ std::vector<std::uint32_t> nearestCounts(const std::string& sampler, std::uint32
 void checkCommon(const PatternRequest& r)
 {
     if (r.spp < 1 || r.spp > kMaxSamples)
-        throw InvalidArgument("spp " + std::to_string(r.spp) + " is out of range: valid 1 .. " +
-                              std::to_string(kMaxSamples));
+        throw InvalidArgument("spp " + std::to_string(r.spp) + " is out of range: valid 1 .. " + std::to_string(kMaxSamples));
     if (r.dims < 1 || r.dims > kMaxDims)
-        throw InvalidArgument("dims " + std::to_string(r.dims) + " is out of range: valid 1 .. " +
-                              std::to_string(kMaxDims));
+        throw InvalidArgument("dims " + std::to_string(r.dims) + " is out of range: valid 1 .. " + std::to_string(kMaxDims));
     if (r.strength > OAS_MAX_STRENGTH)
         throw InvalidArgument("strength " + std::to_string(r.strength) + " is out of range: valid 2 .. " +
                               std::to_string(OAS_MAX_STRENGTH));
@@ -148,20 +145,25 @@ std::string samplerDescription(const std::string& name)
     const std::uint32_t code = samplerCode(name);
     switch (code) {
     case OAS_BOSE:
-        return "Bose OA(q^2, q+1, q, 2), q prime power <= " + std::to_string(OAS_MAX_BOSE_Q) + ": N = " +
-               firstCounts(code, 8);
-    case OAS_BUSH: return "Bush OA(q^t, q+1, q, t), q prime power >= t: strength t";
-    case OAS_BOSE_BUSH: return "Bose-Bush OA(2q^2, 2q+1, q, 2), q = 2^k: N = " + firstCounts(code, 5);
+        return "Bose OA(q^2, q+1, q, 2), q prime power <= " + std::to_string(OAS_MAX_BOSE_Q) + ": N = " + firstCounts(code, 8);
+    case OAS_BUSH:
+        return "Bush OA(q^t, q+1, q, t), q prime power >= t: strength t";
+    case OAS_BOSE_BUSH:
+        return "Bose-Bush OA(2q^2, 2q+1, q, 2), q = 2^k: N = " + firstCounts(code, 5);
     case OAS_ADDELMAN_KEMPTHORNE:
         return "Addelman-Kempthorne OA(2q^2, 2q+1, q, 2), q odd prime power: N = " + firstCounts(code, 4);
-    case OAS_CMJND: return "CMJND OA(s^d, d, s, d): full factorial, any s >= 2, strength d";
-    case OAS_RANDOM: return "independent uniform random (baseline)";
-    case OAS_JITTERED_2D: return "jittered nx*ny grid per dimension pair, padded (baseline)";
-    case OAS_CMJ_2D: return "correlated multi-jittered 2D per pair, padded (Kensler 2013; baseline)";
-    case OAS_ZERO_TWO: return "Owen-scrambled (0,2)-sequence per pair, padded (baseline)";
+    case OAS_CMJND:
+        return "CMJND OA(s^d, d, s, d): full factorial, any s >= 2, strength d";
+    case OAS_RANDOM:
+        return "independent uniform random (baseline)";
+    case OAS_JITTERED_2D:
+        return "jittered nx*ny grid per dimension pair, padded (baseline)";
+    case OAS_CMJ_2D:
+        return "correlated multi-jittered 2D per pair, padded (Kensler 2013; baseline)";
+    case OAS_ZERO_TWO:
+        return "Owen-scrambled (0,2)-sequence per pair, padded (baseline)";
     case OAS_HALTON:
-        return "Halton with random digit permutations, blocks of " + std::to_string(OAS_HALTON_BLOCK_DIMS) +
-               " dims (baseline)";
+        return "Halton with random digit permutations, blocks of " + std::to_string(OAS_HALTON_BLOCK_DIMS) + " dims (baseline)";
     case OAS_SOBOL:
         return "Owen-scrambled Sobol, blocks of " + std::to_string(OAS_SOBOL_BLOCK_DIMS) +
                " dims (baseline; Joe-Kuo direction numbers)";
@@ -191,12 +193,13 @@ std::uint32_t primitivePolynomial(std::uint32_t p, std::uint32_t k)
 {
     const std::uint32_t q = powCapped(p, k, kMaxFieldQ + 1);
     if (primePower(p).k != 1 || k < 1 || q == 0)
-        throw InvalidArgument("GF(" + std::to_string(p) + "^" + std::to_string(k) + ") is not supported: need p prime and p^k <= 65536");
+        throw InvalidArgument("GF(" + std::to_string(p) + "^" + std::to_string(k) +
+                              ") is not supported: need p prime and p^k <= 65536");
     return oas_primitive_polynomial(p, k);
 }
 
-std::vector<std::uint32_t> validCounts(const std::string& sampler, std::uint32_t strength, std::uint32_t dims,
-                                       std::uint32_t lo, std::uint32_t hi)
+std::vector<std::uint32_t> validCounts(const std::string& sampler, std::uint32_t strength, std::uint32_t dims, std::uint32_t lo,
+                                       std::uint32_t hi)
 {
     std::vector<std::uint32_t> out;
     if (sampler == "oa") {
@@ -231,8 +234,9 @@ Pattern makePattern(const PatternRequest& request)
     const std::uint32_t offset = offsetCode(request.offset);
     const std::uint32_t t = request.strength ? request.strength : defaultStrength(code, request.dims);
     if (code == OAS_CMJND && request.strength == 0 && request.dims > 24)
-        throw InvalidArgument("cmjnd: dims " + std::to_string(request.dims) +
-                              " is too many for one full factorial (s^d <= 2^24 needs d <= 24); pass --strength d to pad with blocks of d dims");
+        throw InvalidArgument(
+            "cmjnd: dims " + std::to_string(request.dims) +
+            " is too many for one full factorial (s^d <= 2^24 needs d <= 24); pass --strength d to pad with blocks of d dims");
     const bool strengthTwoOnly = code == OAS_BOSE || code == OAS_BOSE_BUSH || code == OAS_ADDELMAN_KEMPTHORNE;
     if (strengthTwoOnly && t != 2)
         throw InvalidArgument("sampler '" + request.sampler + "' has strength 2 only (strength " + std::to_string(t) +
@@ -241,11 +245,9 @@ Pattern makePattern(const PatternRequest& request)
     Pattern pat = exactPattern(code, request.spp, t, offset, why);
     if (pat.N != 0) return pat;
     const auto near = nearestCounts(request.sampler, t, request.dims, request.spp);
-    if (request.roundUp && !near.empty() && near.back() > request.spp)
-        return exactPattern(code, near.back(), t, offset, why);
-    throw InvalidArgument("sampler '" + request.sampler + "' (strength " + std::to_string(t) +
-                          ") cannot make exactly spp " + std::to_string(request.spp) + ": " + why +
-                          "; nearest valid spp: " + countList(near) +
+    if (request.roundUp && !near.empty() && near.back() > request.spp) return exactPattern(code, near.back(), t, offset, why);
+    throw InvalidArgument("sampler '" + request.sampler + "' (strength " + std::to_string(t) + ") cannot make exactly spp " +
+                          std::to_string(request.spp) + ": " + why + "; nearest valid spp: " + countList(near) +
                           (near.empty() ? "" : " (or allow rounding up)"));
 }
 
@@ -302,12 +304,12 @@ Choice chooseOrthogonalArray(const PatternRequest& request)
                      [&](const Candidate& a, const Candidate& b) { return key(a) < key(b); });
     const Candidate& best = candidates.front();
     std::ostringstream why;
-    why << note << "chose " << describe(best.pat) << " for spp " << spp << ", " << request.dims
-        << " dims, strength >= " << t << ": ";
+    why << note << "chose " << describe(best.pat) << " for spp " << spp << ", " << request.dims << " dims, strength >= " << t
+        << ": ";
     const std::uint32_t blocks = (request.dims + best.pat.blockDims - 1) / best.pat.blockDims;
     why << (blocks == 1 ? "one OA block covers every dimension" : std::to_string(blocks) + " independently randomized OA blocks")
-        << ", every " << best.pat.strength << "-D projection within a block stratified into " << best.pat.s
-        << "^" << best.pat.strength << " cells";
+        << ", every " << best.pat.strength << "-D projection within a block stratified into " << best.pat.s << "^"
+        << best.pat.strength << " cells";
     if (candidates.size() > 1) {
         why << "; other candidates:";
         for (std::size_t i = 1; i < candidates.size(); ++i) why << " [" << describe(candidates[i].pat) << "]";
@@ -320,13 +322,12 @@ std::string describe(const Pattern& p)
     std::ostringstream out;
     out << constructionName(p.construction);
     if (p.construction < OAS_RANDOM) {
-        out << " q=" << p.s << " N=" << p.N << " t=" << p.strength << " " << offsetName(p.offset) << ", "
-            << p.blockDims << " dims/block";
+        out << " q=" << p.s << " N=" << p.N << " t=" << p.strength << " " << offsetName(p.offset) << ", " << p.blockDims
+            << " dims/block";
         if (p.fieldK > 1) out << ", GF(" << p.fieldP << "^" << p.fieldK << ")";
     } else {
         out << " N=" << p.N;
-        if (p.construction == OAS_JITTERED_2D || p.construction == OAS_CMJ_2D)
-            out << " grid " << p.aux << "x" << p.aux2;
+        if (p.construction == OAS_JITTERED_2D || p.construction == OAS_CMJ_2D) out << " grid " << p.aux << "x" << p.aux2;
     }
     return out.str();
 }

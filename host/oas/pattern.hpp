@@ -63,7 +63,10 @@ bool isOrthogonalArray(const std::string& name);
 
 /// The pattern's field kind for OAS_STATIC_FIELD_KIND specialization: 0 prime (or no field),
 /// 1 GF(2^k) with k > 1, 2 odd extension field (OAS_FIELD_* in shaders/oas/oas_gf.glsl).
-inline std::uint32_t fieldKind(const Pattern& p) { return p.fieldK <= 1 ? 0u : (p.fieldP == 2 ? 1u : 2u); }
+inline std::uint32_t fieldKind(const Pattern& p)
+{
+    return p.fieldK <= 1 ? 0u : (p.fieldP == 2 ? 1u : 2u);
+}
 /// What a GPU pipeline is specialized on (construction, offset, field kind): two patterns with the
 /// same key run on the same pipeline, the rest of the pattern being push constants.
 inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> specializationKey(const Pattern& p)
@@ -90,8 +93,8 @@ Choice chooseOrthogonalArray(const PatternRequest& request);
 
 /// Sample counts in [lo, hi] the sampler makes exactly with this strength and dims: the C
 /// builder's rules (oas_valid_counts); for a baseline, which takes every count, the first 64.
-std::vector<std::uint32_t> validCounts(const std::string& sampler, std::uint32_t strength,
-                                       std::uint32_t dims, std::uint32_t lo, std::uint32_t hi);
+std::vector<std::uint32_t> validCounts(const std::string& sampler, std::uint32_t strength, std::uint32_t dims, std::uint32_t lo,
+                                       std::uint32_t hi);
 
 /// "bose q=11 N=121 t=2 cmj, 12 dims/block", for logs and headers.
 std::string describe(const Pattern& pattern);
@@ -110,9 +113,9 @@ std::uint32_t primitivePolynomial(std::uint32_t p, std::uint32_t k);
 /// One point set laid out [pixel][sample][dim], pixel = y * width + x over the given rectangle.
 struct SampleRequest {
     std::uint32_t x0 = 0, y0 = 0, width = 1, height = 1;
-    std::uint32_t spp = 1;       ///< samples per pixel (indices >= N use further passes)
+    std::uint32_t spp = 1;  ///< samples per pixel (indices >= N use further passes)
     std::uint32_t dims = 2;
-    std::uint32_t seed = 0;      ///< user seed mixed into every pixel seed
+    std::uint32_t seed = 0;         ///< user seed mixed into every pixel seed
     std::uint32_t firstSample = 0;  ///< sample indices [firstSample, firstSample + spp)
 };
 

@@ -62,9 +62,8 @@ StratificationSummary summarize(const Pattern& p, const float* points, std::uint
     // Halton is N-stratified only where N is a power of a dimension's base; promise nothing there.
     // Sobol and (0,2) are N-stratified in 1D for powers of two only.
     const bool powerOfTwo = (p.N & (p.N - 1)) == 0;
-    if (p.construction != glsl::OAS_RANDOM && p.construction != glsl::OAS_JITTERED_2D &&
-        p.construction != glsl::OAS_HALTON && (powerOfTwo || (p.construction != glsl::OAS_SOBOL &&
-                                                             p.construction != glsl::OAS_ZERO_TWO))) {
+    if (p.construction != glsl::OAS_RANDOM && p.construction != glsl::OAS_JITTERED_2D && p.construction != glsl::OAS_HALTON &&
+        (powerOfTwo || (p.construction != glsl::OAS_SOBOL && p.construction != glsl::OAS_ZERO_TWO))) {
         std::uint32_t kept = 0, total = 0;
         const std::uint32_t K = lhsPromised ? p.N : p.s;
         for (std::uint32_t d = 0; d < dims; ++d, ++total) kept += isStratified(points, n, dims, {d}, K);
@@ -92,8 +91,8 @@ StratificationSummary summarize(const Pattern& p, const float* points, std::uint
                 for (std::uint32_t j = std::uint32_t(i) + 1; j < t; ++j) cols[j] = cols[j - 1] + 1;
             }
         }
-        line << t << "D: " << kept << "/" << total << " in-block " << t << "-subsets of dims stratified into " << p.s
-             << "^" << t << " cells";
+        line << t << "D: " << kept << "/" << total << " in-block " << t << "-subsets of dims stratified into " << p.s << "^" << t
+             << " cells";
         emit(kept == total);
     } else if (p.construction == glsl::OAS_JITTERED_2D || p.construction == glsl::OAS_CMJ_2D) {
         std::uint32_t kept = 0, total = 0;
@@ -107,8 +106,7 @@ StratificationSummary summarize(const Pattern& p, const float* points, std::uint
             for (auto c : count) ok = ok && c == 1;
             kept += ok;
         }
-        line << "2D: " << kept << "/" << total << " dimension pairs stratified into " << p.aux << "x" << p.aux2
-             << " cells";
+        line << "2D: " << kept << "/" << total << " dimension pairs stratified into " << p.aux << "x" << p.aux2 << " cells";
         emit(kept == total);
     }
     return out;

@@ -29,9 +29,7 @@ void storeSum(std::uint32_t* p, const pt::PtSum& s)
 
 }  // namespace
 
-Accumulation::Accumulation(std::uint32_t w, std::uint32_t h) : width(w), height(h), words(std::size_t(w) * h * kSumWords, 0u)
-{
-}
+Accumulation::Accumulation(std::uint32_t w, std::uint32_t h) : width(w), height(h), words(std::size_t(w) * h * kSumWords, 0u) {}
 
 void Accumulation::addToPixel(std::size_t i, glm::uvec3 lo, glm::uvec3 mid, glm::uvec3 hi, std::uint32_t samples,
                               std::uint32_t rejected)
@@ -49,8 +47,8 @@ void Accumulation::addToPixel(std::size_t i, glm::uvec3 lo, glm::uvec3 mid, glm:
 Accumulation Accumulation::window(std::uint32_t x0, std::uint32_t y0, std::uint32_t w, std::uint32_t h) const
 {
     if (std::uint64_t(x0) + w > width || std::uint64_t(y0) + h > height)
-        throw std::invalid_argument("Accumulation::window: outside the " + std::to_string(width) + "x" +
-                                    std::to_string(height) + " image");
+        throw std::invalid_argument("Accumulation::window: outside the " + std::to_string(width) + "x" + std::to_string(height) +
+                                    " image");
     Accumulation out(w, h);
     for (std::uint32_t y = 0; y < h; ++y)
         std::copy_n(pixel(std::size_t(y0 + y) * width + x0), std::size_t(w) * kSumWords, out.pixel(std::size_t(y) * w));

@@ -47,8 +47,7 @@ struct Accumulation {
     std::uint32_t rejected(std::size_t i) const { return pixel(i)[pt::PT_SUM_REJECTED_WORD]; }
 
     /// Adds a PtSum's words (lo, mid, hi), samples taken and samples rejected to pixel i (exact).
-    void addToPixel(std::size_t i, glm::uvec3 lo, glm::uvec3 mid, glm::uvec3 hi, std::uint32_t samples,
-                    std::uint32_t rejected);
+    void addToPixel(std::size_t i, glm::uvec3 lo, glm::uvec3 mid, glm::uvec3 hi, std::uint32_t samples, std::uint32_t rejected);
     /// Adds another accumulation of the same size, pixel by pixel (exact). Throws
     /// std::invalid_argument for another size, std::overflow_error when a pixel's sample count
     /// would pass 2^32 - 1 (the sums hold 2^32 samples of up to 2^64 each).

@@ -17,8 +17,7 @@ DimensionPlan planDimensions(const scene::Scene& scene)
     plan.mis = plan.nee && integrator.mis && scene.areaLightCount() > 0;
     plan.hasLens = scene.hasDepthOfField();
     plan.hasMotion = scene.hasMotionBlur();
-    for (const auto& m : scene.materials)
-        plan.hasDielectric = plan.hasDielectric || m.type == scene::Material::Type::Dielectric;
+    for (const auto& m : scene.materials) plan.hasDielectric = plan.hasDielectric || m.type == scene::Material::Type::Dielectric;
     plan.rouletteStart = direct ? 0 : integrator.rouletteStartDepth;
 
     // Camera group: 2D effects first (each on an even pair), then 1D ones.
@@ -36,8 +35,14 @@ DimensionPlan planDimensions(const scene::Scene& scene)
     const std::size_t lightCount = scene.lights.size() + scene.areaLightCount();
     const bool bsdfAnywhere = plan.maxDepth > 1 || plan.mis;
     std::uint32_t offset = 0;
-    if (plan.nee && scene.areaLightCount() > 0) { plan.lightUV = offset; offset += 2; }
-    if (bsdfAnywhere) { plan.bsdfUV = offset; offset += 2; }
+    if (plan.nee && scene.areaLightCount() > 0) {
+        plan.lightUV = offset;
+        offset += 2;
+    }
+    if (bsdfAnywhere) {
+        plan.bsdfUV = offset;
+        offset += 2;
+    }
     if (plan.nee && lightCount > 1) plan.lightSelect = offset++;
     if (plan.hasDielectric && bsdfAnywhere) plan.lobe = offset++;
     if (plan.rouletteStart != 0 && plan.rouletteStart < plan.maxDepth) plan.roulette = offset++;

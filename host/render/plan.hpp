@@ -26,8 +26,8 @@ struct DimensionPlan {
         std::uint32_t first;  ///< first sample dimension
         std::uint32_t count;  ///< 1 or 2
     };
-    std::vector<Entry> entries;  ///< every dimension the integrand uses, in order
-    std::uint32_t usedDims = 0;  ///< the integrand's dimension: sum of counts
+    std::vector<Entry> entries;    ///< every dimension the integrand uses, in order
+    std::uint32_t usedDims = 0;    ///< the integrand's dimension: sum of counts
     std::uint32_t sampleDims = 0;  ///< dimensions the sampler must provide (incl. alignment gaps)
 
     // Layout read by the shaders (pt/pt_sample_dims.glsl, pt_light.glsl, pt_integrator.glsl): camera

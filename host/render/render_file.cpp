@@ -20,9 +20,8 @@ namespace {
 /// not stored.
 const std::vector<std::string>& sumChannels()
 {
-    static const std::vector<std::string> names = {"sum.R0", "sum.R1", "sum.R2", "sum.G0",      "sum.G1",
-                                                   "sum.G2", "sum.B0", "sum.B1", "sum.B2", "sum.samples",
-                                                   "sum.rejected"};
+    static const std::vector<std::string> names = {"sum.R0", "sum.R1", "sum.R2", "sum.G0",      "sum.G1",      "sum.G2",
+                                                   "sum.B0", "sum.B1", "sum.B2", "sum.samples", "sum.rejected"};
     return names;
 }
 
@@ -93,8 +92,7 @@ std::vector<SampleRange> parseRanges(const std::string& text, const std::string&
         const std::size_t colon = item.find(':');
         SampleRange r;
         if (colon == std::string_view::npos || !parseUint(item.substr(0, colon), r.first) ||
-            !parseUint(item.substr(colon + 1), r.end) || r.first >= r.end ||
-            (!ranges.empty() && r.first <= ranges.back().end))
+            !parseUint(item.substr(colon + 1), r.end) || r.first >= r.end || (!ranges.empty() && r.first <= ranges.back().end))
             throw InvalidArgument(path + ": header field oas.samples is '" + text +
                                   "': valid a list of increasing, disjoint ranges A:B (A < B), e.g. 0:16 or 0:4,9:16");
         ranges.push_back(r);
@@ -135,8 +133,7 @@ SampleRange parseSampleRange(const std::string& text, std::uint32_t spp, const s
     if (colon == std::string::npos || !parseUint(std::string_view(text).substr(0, colon), r.first) ||
         !parseUint(std::string_view(text).substr(colon + 1), r.end) || r.first >= r.end || r.end > spp)
         throw InvalidArgument(what + " " + text + ": valid A:B, the sample indices [A, B) with 0 <= A < B <= " +
-                              std::to_string(spp) + " (the frame's samples per pixel), e.g. 0:" +
-                              std::to_string((spp + 1) / 2));
+                              std::to_string(spp) + " (the frame's samples per pixel), e.g. 0:" + std::to_string((spp + 1) / 2));
     return r;
 }
 
@@ -169,19 +166,20 @@ PixelWindow parseCropWindow(const std::vector<std::string>& values, std::uint32_
     const PixelWindow w{ok ? pixel(f[0], width) : 0, ok ? pixel(f[1], width) : 0, ok ? pixel(f[2], height) : 0,
                         ok ? pixel(f[3], height) : 0};
     if (!ok)
-        throw InvalidArgument(what + given + ": valid x0 x1 y0 y1, fractions of the image with 0 <= x0 < x1 <= 1 "
-                                             "and 0 <= y0 < y1 <= 1 (e.g. 0.25 0.75 0 0.5)");
+        throw InvalidArgument(what + given +
+                              ": valid x0 x1 y0 y1, fractions of the image with 0 <= x0 < x1 <= 1 "
+                              "and 0 <= y0 < y1 <= 1 (e.g. 0.25 0.75 0 0.5)");
     if (w.x0 >= w.x1 || w.y0 >= w.y1)
-        throw InvalidArgument(what + given + " holds no pixel of the " + std::to_string(width) + "x" +
-                              std::to_string(height) + " image (pixels [ceil(W x0), ceil(W x1)) x [ceil(H y0), "
+        throw InvalidArgument(what + given + " holds no pixel of the " + std::to_string(width) + "x" + std::to_string(height) +
+                              " image (pixels [ceil(W x0), ceil(W x1)) x [ceil(H y0), "
                               "ceil(H y1))): valid a wider window");
     return w;
 }
 
 std::string formatCropWindow(const PixelWindow& window, std::uint32_t width, std::uint32_t height)
 {
-    return "[" + std::to_string(window.x0) + ", " + std::to_string(window.x1) + ") x [" + std::to_string(window.y0) +
-           ", " + std::to_string(window.y1) + ") of " + std::to_string(width) + "x" + std::to_string(height);
+    return "[" + std::to_string(window.x0) + ", " + std::to_string(window.x1) + ") x [" + std::to_string(window.y0) + ", " +
+           std::to_string(window.y1) + ") of " + std::to_string(width) + "x" + std::to_string(height);
 }
 
 std::string prepareRenderOutput(const std::string& output, const std::string& option)
@@ -190,7 +188,8 @@ std::string prepareRenderOutput(const std::string& output, const std::string& op
     std::string ext = fs::path(output).extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     if (ext != ".exr" || fs::path(output).stem().empty())
-        throw InvalidArgument(option + " " + output + ": the output is an OpenEXR image with its PNG preview "
+        throw InvalidArgument(option + " " + output +
+                              ": the output is an OpenEXR image with its PNG preview "
                               "beside it: valid a file name ending in .exr (e.g. out/render.exr)");
     if (fs::is_directory(output))
         throw InvalidArgument(option + " " + output + " is a directory: valid a file name ending in .exr");
@@ -211,15 +210,13 @@ std::string formatRanges(const std::vector<SampleRange>& ranges)
 const std::vector<std::string>& frameFields()
 {
     // oas.sampler before oas.pattern: the same fact, but a mismatch reads better in words.
-    static const std::vector<std::string> fields = {"oas.format",  "oas.sceneHash", "oas.resolution",
-                                                    "oas.sampler", "oas.pattern",   "oas.dimensionPlan",
-                                                    "oas.seed"};
+    static const std::vector<std::string> fields = {"oas.format",  "oas.sceneHash",     "oas.resolution", "oas.sampler",
+                                                    "oas.pattern", "oas.dimensionPlan", "oas.seed"};
     return fields;
 }
 
-std::map<std::string, std::string> renderAttributes(const scene::Scene& scene, const SceneData& data,
-                                                    const DimensionPlan& plan, const Pattern& pattern,
-                                                    std::uint32_t seed)
+std::map<std::string, std::string> renderAttributes(const scene::Scene& scene, const SceneData& data, const DimensionPlan& plan,
+                                                    const Pattern& pattern, std::uint32_t seed)
 {
     std::string planLine = plan.explain();
     planLine = planLine.substr(0, planLine.find('\n'));
@@ -235,13 +232,13 @@ std::map<std::string, std::string> renderAttributes(const scene::Scene& scene, c
 }
 
 image::Image writeRenderFile(const std::string& path, const Accumulation& sums, const std::vector<SampleRange>& ranges,
-                     std::map<std::string, std::string> attributes)
+                             std::map<std::string, std::string> attributes)
 {
     const std::uint64_t held = totalSamples(ranges);
     for (std::size_t i = 0; i < sums.pixelCount(); ++i)
         if (sums.samples(i) != held)
-            throw std::logic_error("writeRenderFile: pixel " + std::to_string(i) + " holds " +
-                                   std::to_string(sums.samples(i)) + " samples, the ranges " + formatRanges(ranges));
+            throw std::logic_error("writeRenderFile: pixel " + std::to_string(i) + " holds " + std::to_string(sums.samples(i)) +
+                                   " samples, the ranges " + formatRanges(ranges));
     image::UintChannels channels;
     for (std::size_t k = 0; k < sumChannels().size(); ++k) {
         std::vector<std::uint32_t>& values = channels[sumChannels()[k]];
@@ -283,8 +280,8 @@ RenderFile readRenderFile(const std::string& path)
             throw InvalidArgument(path + ": channel " + name + " is missing: a render file holds the exact sums in " +
                                   "UINT channels sum.R0 ... sum.rejected");
     if (field("oas.resolution") != std::to_string(mean.width) + "x" + std::to_string(mean.height))
-        throw InvalidArgument(path + ": header field oas.resolution is '" + field("oas.resolution") +
-                              "' but the image is " + std::to_string(mean.width) + "x" + std::to_string(mean.height));
+        throw InvalidArgument(path + ": header field oas.resolution is '" + field("oas.resolution") + "' but the image is " +
+                              std::to_string(mean.width) + "x" + std::to_string(mean.height));
     file.ranges = parseRanges(field("oas.samples"), path);
     const std::uint64_t held = totalSamples(file.ranges);
     file.sums = Accumulation(mean.width, mean.height);
@@ -294,11 +291,10 @@ RenderFile readRenderFile(const std::string& path)
     }
     for (std::size_t i = 0; i < file.sums.pixelCount(); ++i)
         if (file.sums.samples(i) != held || file.sums.rejected(i) > held)
-            throw InvalidArgument(path + ": pixel " + std::to_string(i % mean.width) + "," +
-                                  std::to_string(i / mean.width) + " holds " + std::to_string(file.sums.samples(i)) +
-                                  " samples (" + std::to_string(file.sums.rejected(i)) +
-                                  " rejected) but header field oas.samples says " + std::to_string(held) + " (" +
-                                  field("oas.samples") + ")");
+            throw InvalidArgument(path + ": pixel " + std::to_string(i % mean.width) + "," + std::to_string(i / mean.width) +
+                                  " holds " + std::to_string(file.sums.samples(i)) + " samples (" +
+                                  std::to_string(file.sums.rejected(i)) + " rejected) but header field oas.samples says " +
+                                  std::to_string(held) + " (" + field("oas.samples") + ")");
     return file;
 }
 
@@ -322,8 +318,8 @@ RenderFile mergeRenders(const std::vector<RenderFile>& renders, const std::vecto
         const RenderFile& f = renders[r];
         for (const std::string& name : mergeFields)
             if (value(f, name) != value(renders.front(), name))
-                throw InvalidArgument(names[r] + ": header field " + name + " is '" + value(f, name) + "' but " +
-                                      names.front() + " has '" + value(renders.front(), name) +
+                throw InvalidArgument(names[r] + ": header field " + name + " is '" + value(f, name) + "' but " + names.front() +
+                                      " has '" + value(renders.front(), name) +
                                       "': shards of one frame share the scene, resolution, crop window, sampler, "
                                       "plan and seed");
         for (const SampleRange& range : f.ranges) owners.push_back({range, r});
@@ -338,9 +334,9 @@ RenderFile mergeRenders(const std::vector<RenderFile>& renders, const std::vecto
     std::sort(owners.begin(), owners.end(), [](auto& a, auto& b) { return a.first.first < b.first.first; });
     for (std::size_t i = 1; i < owners.size(); ++i)
         if (owners[i].first.first < owners[i - 1].first.end)
-            throw InvalidArgument(names[owners[i].second] + ": samples " + formatRanges({owners[i].first}) +
-                                  " overlap samples " + formatRanges({owners[i - 1].first}) + " of " +
-                                  names[owners[i - 1].second] + ": each sample may be merged once");
+            throw InvalidArgument(names[owners[i].second] + ": samples " + formatRanges({owners[i].first}) + " overlap samples " +
+                                  formatRanges({owners[i - 1].first}) + " of " + names[owners[i - 1].second] +
+                                  ": each sample may be merged once");
     merged.ranges.clear();
     for (const auto& [range, owner] : owners) merged.ranges.push_back(range);
     normalize(merged.ranges);

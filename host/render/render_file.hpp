@@ -75,9 +75,8 @@ const std::vector<std::string>& frameFields();
 /// The frame fields of a render of `data` (scene's `scene`) with this plan, pattern and seed,
 /// plus oas.format, oas.sampler (the pattern in words), oas.sppRequested and oas.scene (the
 /// scene file as given). Writers add their own (timing, device, writer).
-std::map<std::string, std::string> renderAttributes(const scene::Scene& scene, const SceneData& data,
-                                                    const DimensionPlan& plan, const Pattern& pattern,
-                                                    std::uint32_t seed);
+std::map<std::string, std::string> renderAttributes(const scene::Scene& scene, const SceneData& data, const DimensionPlan& plan,
+                                                    const Pattern& pattern, std::uint32_t seed);
 
 struct RenderFile {
     Accumulation sums;
@@ -90,7 +89,7 @@ struct RenderFile {
 /// oas.rejectedSamples. Every pixel must hold exactly the ranges' samples. Returns the mean image
 /// it wrote (sums.image(), e.g. for the PNG preview).
 image::Image writeRenderFile(const std::string& path, const Accumulation& sums, const std::vector<SampleRange>& ranges,
-                     std::map<std::string, std::string> attributes);
+                             std::map<std::string, std::string> attributes);
 
 /// Reads and checks a render file. Throws oas::InvalidArgument naming `path` and the field at
 /// fault: not an EXR or truncated, not a render file (no oas.format, an unknown one, or missing

@@ -76,8 +76,8 @@ SceneData flattenScene(const scene::Scene& sc)
     if (data.materials.empty()) data.materials.push_back({});  // keep every buffer non-empty
     for (const auto& l : sc.lights) {
         const float type = l.type == scene::Light::Type::Point ? pt::PT_LIGHT_POINT : pt::PT_LIGHT_SPOT;
-        data.lights.push_back({vec4(l.position, type), vec4(l.intensity, 0), vec4(l.direction, l.cosOuter),
-                               vec4(l.cosInner, 0, 0, 0)});
+        data.lights.push_back(
+            {vec4(l.position, type), vec4(l.intensity, 0), vec4(l.direction, l.cosOuter), vec4(l.cosInner, 0, 0, 0)});
     }
     for (std::size_t i = 0; i < data.shapes.size(); ++i) {
         const auto& m = sc.materials[std::size_t(data.shapes[i].e.y)];

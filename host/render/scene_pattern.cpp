@@ -24,8 +24,8 @@ ScenePattern scenePattern(const oas::scene::Scene& scene, const DimensionPlan& p
     } catch (const oas::InvalidArgument& e) {
         // Name where the request came from: the scene's "sampler" object or the options.
         throw oas::InvalidArgument(scene.path.string() + ": sampler" +
-                                   (fromOptions ? " (with the --sampler/--spp/--offset/--strength options)" : "") +
-                                   ": " + e.what());
+                                   (fromOptions ? " (with the --sampler/--spp/--offset/--strength options)" : "") + ": " +
+                                   e.what());
     }
 }
 

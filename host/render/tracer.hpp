@@ -69,8 +69,8 @@ private:
 
 /// The CPU reference: `threads` workers (0: all). Returns the number of samples rejected (NaN,
 /// infinite, negative or >= 2^64 radiance): left out of the sums, counted as samples, as on the GPU.
-std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,
-                       const SampleBatch& batch, Accumulation& accumulation, unsigned threads = 0);
+std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, const SampleBatch& batch,
+                       Accumulation& accumulation, unsigned threads = 0);
 
 /// One sample's radiance on the CPU (tests: compare single samples).
 glm::vec3 radianceCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, std::uint32_t px,
@@ -80,8 +80,8 @@ glm::vec3 radianceCpu(const SceneData& data, const DimensionPlan& plan, const Pa
 /// point x with shading normal n (facing wo) and material `material`, at path vertex `vertex`:
 /// what pt_radiance adds there. For tests of the estimator's edge cases.
 glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, std::uint32_t seed,
-                       std::uint32_t sampleIndex, std::uint32_t vertex, std::uint32_t material, glm::vec3 x,
-                       glm::vec3 n, glm::vec3 wo, float time = 0.0f);
+                       std::uint32_t sampleIndex, std::uint32_t vertex, std::uint32_t material, glm::vec3 x, glm::vec3 n,
+                       glm::vec3 wo, float time = 0.0f);
 
 /// What the GPU kernel does per sample (pt_render.comp's PT_STAGE): the path tracer, or for
 /// oas-render-bench --profile's breakdown by elimination, nothing (dispatch and accumulation alone)

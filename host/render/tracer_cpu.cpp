@@ -64,10 +64,10 @@ glsl::OasDraw pt_cpu_group_dims(PtSampleState st, std::uint32_t first, std::uint
 #define PT_FETCH_GROUP pt_cpu_group_dims
 using namespace glm;
 using namespace oas::pt;
-using oas::glsl::OasPattern;
-using oas::glsl::OasDraw;
 using oas::glsl::oas_draw;
 using oas::glsl::OAS_DRAW_MAX;
+using oas::glsl::OasDraw;
+using oas::glsl::OasPattern;
 using uint = std::uint32_t;
 
 // The plan entries of the table (pt/pt_constants.glsl), which the GPU kernel receives as
@@ -76,11 +76,26 @@ using uint = std::uint32_t;
 PT_PLAN_CONSTANTS(PT_DECLARE_THREAD_CONSTANT)
 #undef PT_DECLARE_THREAD_CONSTANT
 
-PtShape pt_shape(uint i) { return tContext->data->shapes[i]; }
-PtMaterial pt_material(uint i) { return tContext->data->materials[i]; }
-PtLight pt_light(uint i) { return tContext->data->lights[i]; }
-PtNode pt_node(uint i) { return tContext->data->nodes[i]; }
-PtGlobals pt_globals() { return tContext->data->globals; }
+PtShape pt_shape(uint i)
+{
+    return tContext->data->shapes[i];
+}
+PtMaterial pt_material(uint i)
+{
+    return tContext->data->materials[i];
+}
+PtLight pt_light(uint i)
+{
+    return tContext->data->lights[i];
+}
+PtNode pt_node(uint i)
+{
+    return tContext->data->nodes[i];
+}
+PtGlobals pt_globals()
+{
+    return tContext->data->globals;
+}
 // No pt_pattern(): its one caller, the GLSL pt_group_dims, is replaced by PT_FETCH_GROUP here.
 
 #pragma GCC diagnostic push
@@ -162,8 +177,8 @@ glm::vec3 radianceCpu(const SceneData& data, const DimensionPlan& plan, const Pa
 }
 
 glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern, std::uint32_t seed,
-                       std::uint32_t sampleIndex, std::uint32_t vertex, std::uint32_t material, glm::vec3 x,
-                       glm::vec3 n, glm::vec3 wo, float time)
+                       std::uint32_t sampleIndex, std::uint32_t vertex, std::uint32_t material, glm::vec3 x, glm::vec3 n,
+                       glm::vec3 wo, float time)
 {
     const BoundContext bound(data, plan, pattern);
     shared::PtSampleState st;

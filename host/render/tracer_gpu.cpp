@@ -84,8 +84,8 @@ bool GpuTracer::accepts(const Pattern& pattern) const
 void GpuTracer::setPattern(const Pattern& pattern)
 {
     if (!accepts(pattern))
-        throw std::invalid_argument("GpuTracer::setPattern: " + oas::describe(pattern) +
-                                    " needs another pipeline than " + oas::describe(pattern_));
+        throw std::invalid_argument("GpuTracer::setPattern: " + oas::describe(pattern) + " needs another pipeline than " +
+                                    oas::describe(pattern_));
     pattern_ = pattern;
 }
 
@@ -94,8 +94,8 @@ std::uint32_t samplesPerBatch(const DimensionPlan& plan)
     return std::max<std::uint32_t>(1, 8 / std::max<std::uint32_t>(1, plan.maxDepth));
 }
 
-BatchCursor::BatchCursor(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch,
-                         std::uint32_t seed, std::uint32_t tile, std::uint32_t firstSample)
+BatchCursor::BatchCursor(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch, std::uint32_t seed,
+                         std::uint32_t tile, std::uint32_t firstSample)
     : width_(width), height_(height), spp_(width && height && spp > firstSample ? spp - firstSample : 0),
       perBatch_(std::max(1u, perBatch)), first_(firstSample)
 {
@@ -151,7 +151,10 @@ void GpuTracer::clear()
     std::memset(sums.data(), 0, sums.size());
 }
 
-std::uint64_t GpuTracer::rejectedSamples() const { return accumulation().rejectedSamples(); }
+std::uint64_t GpuTracer::rejectedSamples() const
+{
+    return accumulation().rejectedSamples();
+}
 
 void GpuTracer::trace(const SampleBatch& b)
 {

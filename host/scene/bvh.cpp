@@ -14,15 +14,16 @@ constexpr float kIntersectionCost = 1.f;
 // Working copy of one primitive, permuted in place while the tree is built; sequential access
 // keeps the per-level passes cache friendly even for millions of primitives.
 struct PrimRef {
-    Aabb box;           // empty for invalid input boxes
-    glm::vec3 centroid; // finite; the origin for empty boxes
+    Aabb box;            // empty for invalid input boxes
+    glm::vec3 centroid;  // finite; the origin for empty boxes
     std::uint32_t index;
 };
 
 struct Bounds {
-    Aabb box;    // union of the primitives' boxes
-    Aabb cbox;   // bounds of their centroids
-    void add(const PrimRef& r) {
+    Aabb box;   // union of the primitives' boxes
+    Aabb cbox;  // bounds of their centroids
+    void add(const PrimRef& r)
+    {
         box.extend(r.box);
         cbox.extend(r.centroid);
     }
@@ -34,27 +35,30 @@ struct Task {
 };
 
 struct Split {
-    int axis = -1;      // -1: none found
-    int bin = 0;        // left side = bins [0, bin)
+    int axis = -1;  // -1: none found
+    int bin = 0;    // left side = bins [0, bin)
     float cost = 0.f;
 };
 
 // Maps a centroid coordinate to its bin. Written so that NaN (from an overflowing scale) and
 // out-of-range values land in a valid bin; binning and partitioning share it, so they agree.
-inline int binOf(float c, float lo, float scale) {
+inline int binOf(float c, float lo, float scale)
+{
     const float k = (c - lo) * scale;
     return k < float(kBins) ? (k > 0.f ? int(k) : 0) : kBins - 1;
 }
 
 // Area measure for the SAH. When the parent's surface area is 0 (all boxes lie on one line) the
 // sum of the extents still ranks splits sensibly.
-inline float measure(const Aabb& b, bool useArea) {
+inline float measure(const Aabb& b, bool useArea)
+{
     if (useArea) return b.surfaceArea();
     const glm::vec3 d = b.extent();
     return d.x + d.y + d.z;
 }
 
-Split findSahSplit(const PrimRef* refs, std::uint32_t n, const Bounds& bounds) {
+Split findSahSplit(const PrimRef* refs, std::uint32_t n, const Bounds& bounds)
+{
     struct Bin {
         Aabb box;
         std::uint32_t count = 0;
@@ -105,8 +109,7 @@ Split findSahSplit(const PrimRef* refs, std::uint32_t n, const Bounds& bounds) {
             count += bins[a][s - 1].count;
             if (count == 0 || rightCount[s] == 0) continue;
             const float cost =
-                kTraversalCost +
-                kIntersectionCost * (measure(acc, useArea) * float(count) + rightCost[s]) / parent;
+                kTraversalCost + kIntersectionCost * (measure(acc, useArea) * float(count) + rightCost[s]) / parent;
             if (best.axis < 0 || cost < best.cost) best = Split{a, s, cost};
         }
     }
@@ -116,8 +119,9 @@ Split findSahSplit(const PrimRef* refs, std::uint32_t n, const Bounds& bounds) {
 // Reorders refs[begin, end) so that the primitives for which goesLeft holds come first, and
 // returns the boundary with the bounds of both sides.
 template <class Pred>
-std::uint32_t partition(std::vector<PrimRef>& refs, std::uint32_t begin, std::uint32_t end,
-                        Pred goesLeft, Bounds& left, Bounds& right) {
+std::uint32_t partition(std::vector<PrimRef>& refs, std::uint32_t begin, std::uint32_t end, Pred goesLeft, Bounds& left,
+                        Bounds& right)
+{
     std::uint32_t i = begin, j = end;
     for (;;) {
         while (i < j && goesLeft(refs[i])) left.add(refs[i++]);
@@ -130,13 +134,15 @@ std::uint32_t partition(std::vector<PrimRef>& refs, std::uint32_t begin, std::ui
     return i;
 }
 
-std::uint32_t ceilLog2(std::uint64_t n) {
+std::uint32_t ceilLog2(std::uint64_t n)
+{
     std::uint32_t k = 0;
     while ((std::uint64_t{1} << k) < n) ++k;
     return k;
 }
 
-void setBounds(BvhNode& node, const Aabb& box) {
+void setBounds(BvhNode& node, const Aabb& box)
+{
     for (int a = 0; a < 3; ++a) {
         node.lo[a] = box.lo[a];
         node.hi[a] = box.hi[a];
@@ -145,9 +151,9 @@ void setBounds(BvhNode& node, const Aabb& box) {
 
 }  // namespace
 
-Bvh buildBvh(const std::vector<Aabb>& primitiveBounds, std::uint32_t maxLeafSize) {
-    if (primitiveBounds.size() > std::uint64_t{0xFFFFFFFFu})
-        throw std::length_error("buildBvh: more than 2^32 - 1 primitives");
+Bvh buildBvh(const std::vector<Aabb>& primitiveBounds, std::uint32_t maxLeafSize)
+{
+    if (primitiveBounds.size() > std::uint64_t{0xFFFFFFFFu}) throw std::length_error("buildBvh: more than 2^32 - 1 primitives");
     const auto n = static_cast<std::uint32_t>(primitiveBounds.size());
     maxLeafSize = std::max<std::uint32_t>(maxLeafSize, 1);
 
@@ -209,18 +215,14 @@ Bvh buildBvh(const std::vector<Aabb>& primitiveBounds, std::uint32_t maxLeafSize
             const float lo = t.bounds.cbox.lo[a];
             const float scale = float(kBins) / t.bounds.cbox.extent()[a];
             mid = partition(
-                refs, t.begin, t.end,
-                [&](const PrimRef& r) { return binOf(r.centroid[a], lo, scale) < split.bin; },
-                left, right);
+                refs, t.begin, t.end, [&](const PrimRef& r) { return binOf(r.centroid[a], lo, scale) < split.bin; }, left, right);
         } else if (count > maxLeafSize) {
             // No separating plane (all centroids equal, or below binning resolution) or the depth
             // limit: object median along the widest centroid axis.
             const int a = t.bounds.cbox.largestAxis();
             mid = t.begin + count / 2;
             std::nth_element(refs.begin() + t.begin, refs.begin() + mid, refs.begin() + t.end,
-                             [a](const PrimRef& x, const PrimRef& y) {
-                                 return x.centroid[a] < y.centroid[a];
-                             });
+                             [a](const PrimRef& x, const PrimRef& y) { return x.centroid[a] < y.centroid[a]; });
             for (std::uint32_t i = t.begin; i < mid; ++i) left.add(refs[i]);
             for (std::uint32_t i = mid; i < t.end; ++i) right.add(refs[i]);
         } else {
@@ -243,7 +245,8 @@ Bvh buildBvh(const std::vector<Aabb>& primitiveBounds, std::uint32_t maxLeafSize
     return bvh;
 }
 
-std::uint32_t bvhDepth(const Bvh& bvh) {
+std::uint32_t bvhDepth(const Bvh& bvh)
+{
     if (bvh.nodes.empty()) return 0;
     std::uint32_t levels = 0;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0u, 1u}};
@@ -260,7 +263,8 @@ std::uint32_t bvhDepth(const Bvh& bvh) {
     return levels;
 }
 
-double bvhSahCost(const Bvh& bvh) {
+double bvhSahCost(const Bvh& bvh)
+{
     if (bvh.nodes.empty() || bvh.order.empty()) return 0.0;
     const double rootArea = bvh.nodes[0].bounds().surfaceArea();
     if (!(rootArea > 0.0)) return double(bvh.order.size());

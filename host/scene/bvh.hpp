@@ -42,11 +42,13 @@ struct Aabb {
     glm::vec3 lo{std::numeric_limits<float>::infinity()};
     glm::vec3 hi{-std::numeric_limits<float>::infinity()};
 
-    void extend(const glm::vec3& p) {
+    void extend(const glm::vec3& p)
+    {
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
     }
-    void extend(const Aabb& b) {
+    void extend(const Aabb& b)
+    {
         lo = glm::min(lo, b.lo);
         hi = glm::max(hi, b.hi);
     }
@@ -54,31 +56,34 @@ struct Aabb {
     bool valid() const { return lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z; }
     bool empty() const { return !valid(); }
     /// hi - lo, clamped to 0 on axes where the box is empty.
-    glm::vec3 extent() const {
+    glm::vec3 extent() const
+    {
         glm::vec3 d = hi - lo;
         // (0 < d) ? d : 0 also maps NaN and -inf to 0.
         return {0.f < d.x ? d.x : 0.f, 0.f < d.y ? d.y : 0.f, 0.f < d.z ? d.z : 0.f};
     }
     glm::vec3 center() const { return 0.5f * (lo + hi); }
     /// 2 (xy + yz + zx); 0 for empty, flat-in-two-axes and point boxes.
-    float surfaceArea() const {
+    float surfaceArea() const
+    {
         glm::vec3 d = extent();
         return 2.f * (d.x * d.y + d.y * d.z + d.z * d.x);
     }
     /// Index of the longest axis (0 = x on ties).
-    int largestAxis() const {
+    int largestAxis() const
+    {
         glm::vec3 d = extent();
         return d.x >= d.y && d.x >= d.z ? 0 : (d.y >= d.z ? 1 : 2);
     }
     /// Closed containment: every point of b lies in this box. An empty b is contained in anything.
-    bool contains(const Aabb& b) const {
+    bool contains(const Aabb& b) const
+    {
         if (b.empty()) return true;
-        return lo.x <= b.lo.x && lo.y <= b.lo.y && lo.z <= b.lo.z && b.hi.x <= hi.x &&
-               b.hi.y <= hi.y && b.hi.z <= hi.z;
+        return lo.x <= b.lo.x && lo.y <= b.lo.y && lo.z <= b.lo.z && b.hi.x <= hi.x && b.hi.y <= hi.y && b.hi.z <= hi.z;
     }
-    bool contains(const glm::vec3& p) const {
-        return lo.x <= p.x && lo.y <= p.y && lo.z <= p.z && p.x <= hi.x && p.y <= hi.y &&
-               p.z <= hi.z;
+    bool contains(const glm::vec3& p) const
+    {
+        return lo.x <= p.x && lo.y <= p.y && lo.z <= p.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
     }
 };
 
@@ -87,22 +92,21 @@ struct BvhNode {
     float lo[3];
     std::uint32_t leftOrFirst;  // interior: left child (right = left + 1); leaf: first in `order`
     float hi[3];
-    std::uint32_t count;        // 0 = interior node; > 0 = leaf with `count` primitives
+    std::uint32_t count;  // 0 = interior node; > 0 = leaf with `count` primitives
 
     bool isLeaf() const { return count != 0; }
     Aabb bounds() const { return Aabb{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
 };
 static_assert(sizeof(BvhNode) == 32);
 static_assert(std::is_standard_layout_v<BvhNode> && std::is_trivially_copyable_v<BvhNode>);
-static_assert(offsetof(BvhNode, leftOrFirst) == 12 && offsetof(BvhNode, hi) == 16 &&
-              offsetof(BvhNode, count) == 28);
+static_assert(offsetof(BvhNode, leftOrFirst) == 12 && offsetof(BvhNode, hi) == 16 && offsetof(BvhNode, count) == 28);
 
 /// Upper bound on node depth + 1: every node is at depth < kBvhMaxDepth (root depth 0), so a
 /// traversal stack of kBvhMaxDepth entries is always enough.
 inline constexpr std::uint32_t kBvhMaxDepth = 64;
 
 struct Bvh {
-    std::vector<BvhNode> nodes;    // nodes[0] is the root
+    std::vector<BvhNode> nodes;        // nodes[0] is the root
     std::vector<std::uint32_t> order;  // primitive indices in leaf order
 };
 
@@ -128,8 +132,9 @@ double bvhSahCost(const Bvh& bvh);
 
 /// Slab test of a ray (origin, invDir computed as in traverse()) against a node's box over
 /// [tMin, tMax]. On a hit returns true and sets tEntry to the entry distance (>= tMin).
-inline bool intersectNode(const BvhNode& node, const glm::vec3& origin, const glm::vec3& invDir,
-                          float tMin, float tMax, float& tEntry) {
+inline bool intersectNode(const BvhNode& node, const glm::vec3& origin, const glm::vec3& invDir, float tMin, float tMax,
+                          float& tEntry)
+{
     float tNear = tMin, tFar = tMax;
     for (int a = 0; a < 3; ++a) {
         const bool positive = invDir[a] >= 0.f;
@@ -146,10 +151,10 @@ inline bool intersectNode(const BvhNode& node, const glm::vec3& origin, const gl
 }
 
 /// Per-axis 1 / dir with zero components (either sign) mapped to +inf.
-inline glm::vec3 safeInverse(const glm::vec3& dir) {
+inline glm::vec3 safeInverse(const glm::vec3& dir)
+{
     const float inf = std::numeric_limits<float>::infinity();
-    return {dir.x == 0.f ? inf : 1.f / dir.x, dir.y == 0.f ? inf : 1.f / dir.y,
-            dir.z == 0.f ? inf : 1.f / dir.z};
+    return {dir.x == 0.f ? inf : 1.f / dir.x, dir.y == 0.f ? inf : 1.f / dir.y, dir.z == 0.f ? inf : 1.f / dir.z};
 }
 
 /// Visits candidate primitives for the ray origin + t dir, t in [0, tMax]: calls
@@ -158,8 +163,8 @@ inline glm::vec3 safeInverse(const glm::vec3& dir) {
 /// returns bool, returning false stops the traversal (any-hit queries). dir need not be
 /// normalised; zero components are fine. bvh must come from buildBvh (depth < kBvhMaxDepth).
 template <class HitFn>
-void traverse(const Bvh& bvh, const glm::vec3& origin, const glm::vec3& dir, float tMax,
-              HitFn&& fn) {
+void traverse(const Bvh& bvh, const glm::vec3& origin, const glm::vec3& dir, float tMax, HitFn&& fn)
+{
     if (bvh.nodes.empty()) return;
     const glm::vec3 invDir = safeInverse(dir);
     struct Entry {
@@ -174,10 +179,8 @@ void traverse(const Bvh& bvh, const glm::vec3& origin, const glm::vec3& dir, flo
     for (;;) {
         const BvhNode& node = bvh.nodes[current];
         if (node.isLeaf()) {
-            for (std::uint32_t i = node.leftOrFirst, end = node.leftOrFirst + node.count; i < end;
-                 ++i) {
-                if constexpr (std::is_same_v<std::invoke_result_t<HitFn&, std::uint32_t, float&>,
-                                             bool>) {
+            for (std::uint32_t i = node.leftOrFirst, end = node.leftOrFirst + node.count; i < end; ++i) {
+                if constexpr (std::is_same_v<std::invoke_result_t<HitFn&, std::uint32_t, float&>, bool>) {
                     if (!fn(bvh.order[i], tMax)) return;
                 } else {
                     fn(bvh.order[i], tMax);
@@ -187,8 +190,7 @@ void traverse(const Bvh& bvh, const glm::vec3& origin, const glm::vec3& dir, flo
             const std::uint32_t left = node.leftOrFirst, right = left + 1;
             float tLeft, tRight;
             const bool hitLeft = intersectNode(bvh.nodes[left], origin, invDir, 0.f, tMax, tLeft);
-            const bool hitRight =
-                intersectNode(bvh.nodes[right], origin, invDir, 0.f, tMax, tRight);
+            const bool hitRight = intersectNode(bvh.nodes[right], origin, invDir, 0.f, tMax, tRight);
             if (hitLeft && hitRight) {
                 const bool leftFirst = tLeft <= tRight;
                 assert(size < kBvhMaxDepth);  // buildBvh guarantees depth < kBvhMaxDepth

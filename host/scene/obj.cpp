@@ -14,8 +14,7 @@ namespace oas::scene {
 
 ObjError::ObjError(std::string file, std::size_t line, const std::string& detail)
     : std::runtime_error(line ? fmt::format("{}:{}: {}", file, line, detail) : fmt::format("{}: {}", file, detail)),
-      file_(std::move(file)),
-      line_(line)
+      file_(std::move(file)), line_(line)
 {
 }
 
@@ -43,7 +42,10 @@ bool isDegenerateParallelogram(const glm::vec3& edgeU, const glm::vec3& edgeV)
 
 namespace {
 
-bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+bool isSpace(char c)
+{
+    return c == ' ' || c == '\t' || c == '\v' || c == '\f';
+}
 
 std::vector<std::string_view> tokens(std::string_view line)
 {
@@ -139,8 +141,7 @@ private:
     }
 
     /// A 1-based or negative OBJ index into `count` elements defined so far -> 0-based.
-    std::uint32_t resolve(std::string_view tok, std::string_view corner, const char* kind, const char* plural,
-                          std::size_t count)
+    std::uint32_t resolve(std::string_view tok, std::string_view corner, const char* kind, const char* plural, std::size_t count)
     {
         long long v = 0;
         const auto [ptr, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
@@ -149,8 +150,8 @@ private:
         const long long n = static_cast<long long>(count);
         if (v == 0 || v > n || v < -n) {
             if (n == 0)
-                fail(fmt::format("face corner '{}': {} index {} is out of range: no {} defined before this line",
-                                 corner, kind, v, plural));
+                fail(fmt::format("face corner '{}': {} index {} is out of range: no {} defined before this line", corner, kind, v,
+                                 plural));
             fail(fmt::format("face corner '{}': {} index {} is out of range: {} {} defined so far, valid 1..{} or -{}..-1",
                              corner, kind, v, n, plural, n, n));
         }

@@ -33,10 +33,10 @@ private:
 };
 
 struct ObjMesh {
-    std::vector<glm::vec3> positions;                  ///< every `v`, in file order
+    std::vector<glm::vec3> positions;                     ///< every `v`, in file order
     std::vector<std::array<std::uint32_t, 3>> triangles;  ///< 0-based indices into positions
-    std::size_t faces = 0;              ///< `f` statements read
-    std::size_t degenerateDropped = 0;  ///< zero-area triangles left out of `triangles`
+    std::size_t faces = 0;                                ///< `f` statements read
+    std::size_t degenerateDropped = 0;                    ///< zero-area triangles left out of `triangles`
 };
 
 /// Thinness (twice the area over the longest edge squared) at or below which a triangle or a

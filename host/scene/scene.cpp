@@ -23,17 +23,19 @@ using detail::json;
 SceneError::SceneError(std::string file, std::string jsonPath, const std::string& detail)
     : std::runtime_error(jsonPath.empty() ? fmt::format("{}: {}", file, detail)
                                           : fmt::format("{}: {}: {}", file, jsonPath, detail)),
-      file_(std::move(file)),
-      jsonPath_(std::move(jsonPath))
+      file_(std::move(file)), jsonPath_(std::move(jsonPath))
 {
 }
 
 float Shape::area() const
 {
     switch (type) {
-    case Type::Sphere: return 4.0f * 3.14159265358979f * radius * radius;
-    case Type::Quad: return glm::length(glm::cross(edgeU, edgeV));
-    case Type::Triangle: return 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+    case Type::Sphere:
+        return 4.0f * 3.14159265358979f * radius * radius;
+    case Type::Quad:
+        return glm::length(glm::cross(edgeU, edgeV));
+    case Type::Triangle:
+        return 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
     }
     return 0;
 }
@@ -80,8 +82,8 @@ int Scene::findMaterial(const std::string& materialName) const
 
 const std::vector<std::string>& samplerNames()
 {
-    static const std::vector<std::string> names = {"oa",    "bose",   "bush",       "bose-bush", "addelman-kempthorne",
-                                                   "cmjnd", "random", "jittered2d", "cmj2d",     "zerotwo",
+    static const std::vector<std::string> names = {"oa",     "bose",   "bush",       "bose-bush", "addelman-kempthorne",
+                                                   "cmjnd",  "random", "jittered2d", "cmj2d",     "zerotwo",
                                                    "halton", "sobol"};
     return names;
 }
@@ -104,8 +106,8 @@ Scene Loader::load(const json& root) const
 {
     Scene scene;
     objectKeys(root, "", "the scene",
-               {"version", "name", "resolution", "camera", "shutter", "environment", "materials",
-                "shapes", "lights", "integrator", "sampler"});
+               {"version", "name", "resolution", "camera", "shutter", "environment", "materials", "shapes", "lights",
+                "integrator", "sampler"});
     if (auto* v = find(root, "version")) {
         const std::uint32_t version = integer(*v, "version", 1, 1, "1");
         (void)version;
@@ -145,8 +147,9 @@ Scene loadScene(const fs::path& file)
     if (!fs::is_regular_file(status))
         throw SceneError(file.string(), {}, "is not a regular file (a device, FIFO or socket): valid a scene file");
     if (const auto size = fs::file_size(file, ec); !ec && size > kMaxSceneBytes)
-        throw SceneError(file.string(), {}, fmt::format("is {} bytes: valid scene files up to {} MiB (meshes go in OBJ files)",
-                                                        size, kMaxSceneBytes >> 20));
+        throw SceneError(
+            file.string(), {},
+            fmt::format("is {} bytes: valid scene files up to {} MiB (meshes go in OBJ files)", size, kMaxSceneBytes >> 20));
     std::ifstream in(file, std::ios::binary);
     if (!in) throw SceneError(file.string(), {}, "cannot open the scene file for reading");
     std::ostringstream text;
@@ -179,9 +182,9 @@ std::string summary(const Scene& scene)
     if (samplerIsOrthogonalArray(scene.sampler.name)) sampler += " " + scene.sampler.offset;
     return fmt::format("{}: {}x{}, {}; {} shapes ({} mesh triangles), {} materials, {} area lights, {} point/spot "
                        "lights{}; {}; sampler {}",
-                       scene.name, scene.width, scene.height, effects, scene.shapes.size(), triangles,
-                       scene.materials.size(), scene.areaLightCount(), scene.lights.size(),
-                       scene.hasEnvironment() ? ", environment" : "", integrator, sampler);
+                       scene.name, scene.width, scene.height, effects, scene.shapes.size(), triangles, scene.materials.size(),
+                       scene.areaLightCount(), scene.lights.size(), scene.hasEnvironment() ? ", environment" : "", integrator,
+                       sampler);
 }
 
 }  // namespace oas::scene

@@ -40,13 +40,13 @@ private:
 /// view direction; image x points along normalize(cross(lookAt - position, up)) (to the right);
 /// pixel (0, 0) is the top-left corner. Aspect ratio = width / height.
 struct Camera {
-    bool thinLens = false;           ///< true exactly when apertureRadius > 0
-    glm::vec3 position{0, 0, 0};     ///< eye / lens centre, world units
-    glm::vec3 lookAt{0, 0, -1};      ///< a point on the view axis, world units
-    glm::vec3 up{0, 1, 0};           ///< not parallel to the view axis; need not be unit length
-    float fovYDegrees = 40;          ///< full vertical field of view, degrees, in (0, 180)
-    float apertureRadius = 0;        ///< lens radius, world units; 0 = pinhole
-    float focusDistance = 1;         ///< distance along the view axis that is in focus (> 0)
+    bool thinLens = false;        ///< true exactly when apertureRadius > 0
+    glm::vec3 position{0, 0, 0};  ///< eye / lens centre, world units
+    glm::vec3 lookAt{0, 0, -1};   ///< a point on the view axis, world units
+    glm::vec3 up{0, 1, 0};        ///< not parallel to the view axis; need not be unit length
+    float fovYDegrees = 40;       ///< full vertical field of view, degrees, in (0, 180)
+    float apertureRadius = 0;     ///< lens radius, world units; 0 = pinhole
+    float focusDistance = 1;      ///< distance along the view axis that is in focus (> 0)
 };
 
 /// A surface material. Every material may emit: nonzero emission makes its shapes area lights,
@@ -57,10 +57,10 @@ struct Material {
     /// Diffuse: reflectance in [0,1]. Conductor: F0 (normal-incidence reflectance, Schlick) in
     /// [0,1]. Dielectric: tint multiplying reflection and transmission, in [0,1].
     glm::vec3 albedo{0.8f, 0.8f, 0.8f};
-    float roughness = 0;             ///< GGX alpha for conductor/dielectric, [0,1]; 0 = smooth
-    float ior = 1.5f;                ///< dielectric: index of refraction inside / outside
-    glm::vec3 emission{0, 0, 0};     ///< emitted radiance (W sr^-1 m^-2 per channel), >= 0
-    std::string name;                ///< unique; shapes refer to materials by name
+    float roughness = 0;          ///< GGX alpha for conductor/dielectric, [0,1]; 0 = smooth
+    float ior = 1.5f;             ///< dielectric: index of refraction inside / outside
+    glm::vec3 emission{0, 0, 0};  ///< emitted radiance (W sr^-1 m^-2 per channel), >= 0
+    std::string name;             ///< unique; shapes refer to materials by name
 
     bool emits() const { return emission.x > 0 || emission.y > 0 || emission.z > 0; }
 };
@@ -71,10 +71,10 @@ struct Material {
 struct Shape {
     enum class Type { Sphere, Quad, Triangle };
     Type type = Type::Sphere;
-    std::uint32_t material = 0;      ///< index into Scene::materials
+    std::uint32_t material = 0;  ///< index into Scene::materials
     // Sphere.
     glm::vec3 center{0, 0, 0};
-    float radius = 0;                ///< > 0
+    float radius = 0;  ///< > 0
     // Quad: the parallelogram corner + a*edgeU + b*edgeV, a, b in [0,1] (a rectangle when the
     // edges are perpendicular). Area = |cross(edgeU, edgeV)| > 0.
     glm::vec3 corner{0, 0, 0}, edgeU{0, 0, 0}, edgeV{0, 0, 0};
@@ -97,9 +97,9 @@ struct Shape {
 struct Light {
     enum class Type { Point, Spot };
     Type type = Type::Point;
-    glm::vec3 position{0, 0, 0};     ///< world units
-    glm::vec3 intensity{0, 0, 0};    ///< radiant intensity, W/sr per channel, >= 0
-    glm::vec3 direction{0, -1, 0};   ///< spot: unit axis of the cone
+    glm::vec3 position{0, 0, 0};    ///< world units
+    glm::vec3 intensity{0, 0, 0};   ///< radiant intensity, W/sr per channel, >= 0
+    glm::vec3 direction{0, -1, 0};  ///< spot: unit axis of the cone
     /// Spot: cosines of the outer and inner half-angles (cosOuter <= cosInner). Full intensity
     /// inside the inner cone, zero outside the outer cone, smoothstep in between.
     float cosOuter = -1, cosInner = -1;
@@ -113,8 +113,8 @@ struct Integrator {
     /// lighting = 1). Without NEE lights are found only by hitting them and the last vertex only
     /// collects emission: paths scatter up to maxDepth - 1 times.
     std::uint32_t maxDepth = 5;
-    bool nextEventEstimation = true; ///< sample lights explicitly at each vertex
-    bool mis = true;                 ///< with NEE: weight light and BSDF sampling (power heuristic)
+    bool nextEventEstimation = true;       ///< sample lights explicitly at each vertex
+    bool mis = true;                       ///< with NEE: weight light and BSDF sampling (power heuristic)
     std::uint32_t rouletteStartDepth = 0;  ///< Russian roulette from this vertex on; 0 = never
 };
 
@@ -122,11 +122,11 @@ struct Integrator {
 /// Whether spp can be made exactly by the chosen construction is checked when rendering, once
 /// the dimension count is known.
 struct SamplerSpec {
-    std::string name = "oa";         ///< "oa" (the chooser) or one of oas::samplerNames()
-    std::uint32_t spp = 16;          ///< samples per pixel, 1 .. 2^24
-    std::string offset = "cmj";      ///< centered | j | mj | cmj (orthogonal arrays only)
-    std::uint32_t strength = 0;      ///< 0 = the sampler's default, else 2 .. 24
-    std::uint32_t seed = 0;          ///< user seed mixed into every pixel seed
+    std::string name = "oa";     ///< "oa" (the chooser) or one of oas::samplerNames()
+    std::uint32_t spp = 16;      ///< samples per pixel, 1 .. 2^24
+    std::string offset = "cmj";  ///< centered | j | mj | cmj (orthogonal arrays only)
+    std::uint32_t strength = 0;  ///< 0 = the sampler's default, else 2 .. 24
+    std::uint32_t seed = 0;      ///< user seed mixed into every pixel seed
 };
 
 /// One mesh entry of the scene file, after expansion into Scene::shapes.
@@ -149,8 +149,8 @@ struct Scene {
     Integrator integrator;
     SamplerSpec sampler;
     std::vector<MeshInfo> meshes;
-    std::string name;                ///< "name" in the file, else the file's stem
-    std::filesystem::path path;      ///< the scene file (for messages and relative paths)
+    std::string name;            ///< "name" in the file, else the file's stem
+    std::filesystem::path path;  ///< the scene file (for messages and relative paths)
 
     /// The shutter is open for a nonzero time and some shape moves: time is a sample dimension.
     bool hasMotionBlur() const;
@@ -168,8 +168,7 @@ struct Scene {
 Scene loadScene(const std::filesystem::path& file);
 /// The same from text: nameForMessages prefixes messages and becomes Scene::path; mesh paths are
 /// relative to baseDir.
-Scene parseScene(const std::string& jsonText, const std::filesystem::path& nameForMessages,
-                 const std::filesystem::path& baseDir);
+Scene parseScene(const std::string& jsonText, const std::filesystem::path& nameForMessages, const std::filesystem::path& baseDir);
 
 /// The names accepted in "sampler.name" ("oa" first), and whether each is an orthogonal array
 /// (takes "offset" and "strength"). Mirrors oas::samplerNames(); scene_test checks they agree.

@@ -19,8 +19,7 @@ void Loader::resolution(const json& v, Scene& scene) const
 Camera Loader::camera(const json& v) const
 {
     const std::string p = "camera";
-    objectKeys(v, p, "the camera",
-               {"type", "position", "lookAt", "up", "fovY", "apertureRadius", "focusDistance"});
+    objectKeys(v, p, "the camera", {"type", "position", "lookAt", "up", "fovY", "apertureRadius", "focusDistance"});
     Camera cam;
     std::string type;
     if (auto* t = find(v, "type")) type = choice(*t, child(p, "type"), {"pinhole", "thinlens"});
@@ -37,9 +36,10 @@ Camera Loader::camera(const json& v) const
     // Written so that NaN (an up vector whose length overflows) fails too.
     if (!(glm::length(cam.up) > 0 && std::isfinite(glm::length(cam.up))) ||
         !(glm::length(glm::cross(glm::normalize(axis), glm::normalize(cam.up))) >= 1e-6f))
-        fail(child(p, "up"), fmt::format("{} is zero, too long for 32-bit floats, or parallel to the view direction {}: valid a vector not "
-                                         "parallel to lookAt - position",
-                                         show(cam.up), show(axis)));
+        fail(child(p, "up"),
+             fmt::format("{} is zero, too long for 32-bit floats, or parallel to the view direction {}: valid a vector not "
+                         "parallel to lookAt - position",
+                         show(cam.up), show(axis)));
     cam.fovYDegrees = realIn(require(v, p, "fovY", "degrees in (0, 180)"), child(p, "fovY"), 0, 180,
                              "(0, 180) degrees (full vertical angle)", true, true);
     if (auto* a = find(v, "apertureRadius"))
@@ -50,8 +50,7 @@ Camera Loader::camera(const json& v) const
                                                      cam.apertureRadius));
     if (type == "thinlens" && !(cam.apertureRadius > 0))
         fail(child(p, "apertureRadius"),
-             fmt::format("{} on a thin-lens camera: valid > 0 (world units; use type \"pinhole\" for none)",
-                         cam.apertureRadius));
+             fmt::format("{} on a thin-lens camera: valid > 0 (world units; use type \"pinhole\" for none)", cam.apertureRadius));
     cam.thinLens = cam.apertureRadius > 0;
     cam.focusDistance = glm::length(axis);
     if (auto* f = find(v, "focusDistance"))
@@ -65,8 +64,8 @@ void Loader::shutter(const json& v, Scene& scene) const
     if (auto* o = find(v, "open")) scene.shutterOpen = real(*o, "shutter.open");
     if (auto* c = find(v, "close")) scene.shutterClose = real(*c, "shutter.close");
     if (scene.shutterClose < scene.shutterOpen)
-        fail("shutter.close", fmt::format("{} is before shutter.open {}: valid close >= open", scene.shutterClose,
-                                          scene.shutterOpen));
+        fail("shutter.close",
+             fmt::format("{} is before shutter.open {}: valid close >= open", scene.shutterClose, scene.shutterOpen));
 }
 
 }  // namespace oas::scene::detail

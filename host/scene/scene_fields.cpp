@@ -37,7 +37,10 @@ std::string child(const std::string& path, std::string_view key)
     return path.empty() ? std::string(key) : path + "." + std::string(key);
 }
 
-std::string element(const std::string& path, std::size_t index) { return fmt::format("{}[{}]", path, index); }
+std::string element(const std::string& path, std::size_t index)
+{
+    return fmt::format("{}[{}]", path, index);
+}
 
 /// Appends a compact rendering of v to out, stopping once out holds more than `limit` characters,
 /// so that a message about a huge or deeply nested value costs O(limit), not O(size) (json::dump
@@ -74,7 +77,10 @@ std::string show(const json& v)
     return text;
 }
 
-std::string show(const glm::vec3& v) { return fmt::format("[{}, {}, {}]", v.x, v.y, v.z); }
+std::string show(const glm::vec3& v)
+{
+    return fmt::format("[{}, {}, {}]", v.x, v.y, v.z);
+}
 
 std::string typeName(const json& v)
 {
@@ -96,8 +102,8 @@ std::size_t editDistance(std::string_view a, std::string_view b)
         row[0] = i;
         for (std::size_t j = 1; j <= b.size(); ++j) {
             const std::size_t up = row[j];
-            const bool same = std::tolower(static_cast<unsigned char>(a[i - 1])) ==
-                              std::tolower(static_cast<unsigned char>(b[j - 1]));
+            const bool same =
+                std::tolower(static_cast<unsigned char>(a[i - 1])) == std::tolower(static_cast<unsigned char>(b[j - 1]));
             row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (same ? 0 : 1)});
             diag = up;
         }
@@ -118,8 +124,7 @@ const json* FieldReader::find(const json& obj, const char* key)
     return it == obj.end() ? nullptr : &*it;
 }
 
-const json& FieldReader::require(const json& obj, const std::string& path, const char* key,
-                                 std::string_view valid) const
+const json& FieldReader::require(const json& obj, const std::string& path, const char* key, std::string_view valid) const
 {
     if (auto* v = find(obj, key)) return *v;
     fail(child(path, key), fmt::format("missing (required): valid {}", valid));
@@ -129,8 +134,7 @@ void FieldReader::objectKeys(const json& obj, const std::string& path, std::stri
                              std::initializer_list<std::string_view> allowed) const
 {
     if (!obj.is_object())
-        typeError(obj, path.empty() ? "(root)" : path, fmt::format("an object for {}", what),
-                  "an object (see scenes/README.md)");
+        typeError(obj, path.empty() ? "(root)" : path, fmt::format("an object for {}", what), "an object (see scenes/README.md)");
     for (auto it = obj.begin(); it != obj.end(); ++it) {
         const std::string& key = it.key();
         if (key == "comment") {
@@ -141,15 +145,14 @@ void FieldReader::objectKeys(const json& obj, const std::string& path, std::stri
         std::string hint;
         for (auto candidate : allowed)
             if (editDistance(key, candidate) <= 2) hint = fmt::format(" (did you mean \"{}\"?)", candidate);
-        fail(child(path, key), fmt::format("unknown key \"{}\" in {}{}: valid keys are {}, comment", key, what, hint,
-                                           join(allowed)));
+        fail(child(path, key),
+             fmt::format("unknown key \"{}\" in {}{}: valid keys are {}, comment", key, what, hint, join(allowed)));
     }
 }
 
 // --- scalars -------------------------------------------------------------------------------
 
-void FieldReader::typeError(const json& v, const std::string& path, std::string_view expected,
-                            std::string_view valid) const
+void FieldReader::typeError(const json& v, const std::string& path, std::string_view expected, std::string_view valid) const
 {
     fail(path, fmt::format("expected {}, got {} {}: valid {}", expected, typeName(v), show(v), valid));
 }
@@ -163,8 +166,8 @@ float FieldReader::real(const json& v, const std::string& path, std::string_view
     return float(d);
 }
 
-float FieldReader::realIn(const json& v, const std::string& path, double lo, double hi,
-                          std::string_view valid, bool loOpen, bool hiOpen) const
+float FieldReader::realIn(const json& v, const std::string& path, double lo, double hi, std::string_view valid, bool loOpen,
+                          bool hiOpen) const
 {
     const float f = real(v, path, valid);
     const bool ok = (loOpen ? f > lo : f >= lo) && (hiOpen ? f < hi : f <= hi);
@@ -172,8 +175,8 @@ float FieldReader::realIn(const json& v, const std::string& path, double lo, dou
     return f;
 }
 
-std::uint32_t FieldReader::integer(const json& v, const std::string& path, std::uint32_t lo,
-                                   std::uint32_t hi, std::string_view valid) const
+std::uint32_t FieldReader::integer(const json& v, const std::string& path, std::uint32_t lo, std::uint32_t hi,
+                                   std::string_view valid) const
 {
     if (!v.is_number()) typeError(v, path, "an integer", valid);
     double d;
@@ -202,8 +205,8 @@ std::string FieldReader::string(const json& v, const std::string& path, std::str
     return v.get<std::string>();
 }
 
-std::string FieldReader::choice(const json& v, const std::string& path,
-                                std::initializer_list<std::string_view> valid, std::string_view extraHint) const
+std::string FieldReader::choice(const json& v, const std::string& path, std::initializer_list<std::string_view> valid,
+                                std::string_view extraHint) const
 {
     const std::string s = string(v, path, join(valid, " | "));
     if (std::find(valid.begin(), valid.end(), s) == valid.end())
@@ -231,8 +234,7 @@ glm::vec3 FieldReader::color(const json& v, const std::string& path, float lo, f
         const float g = component(v, path);
         return {g, g, g};
     }
-    if (!v.is_array() || v.size() != 3)
-        typeError(v, path, "a colour", fmt::format("one number or [r, g, b], each {}", valid));
+    if (!v.is_array() || v.size() != 3) typeError(v, path, "a colour", fmt::format("one number or [r, g, b], each {}", valid));
     return {component(v[0], element(path, 0)), component(v[1], element(path, 1)), component(v[2], element(path, 2))};
 }
 

@@ -52,13 +52,12 @@ public:
                     std::initializer_list<std::string_view> allowed) const;
 
     // Scalars.
-    [[noreturn]] void typeError(const json& v, const std::string& path, std::string_view expected,
-                                std::string_view valid) const;
+    [[noreturn]] void typeError(const json& v, const std::string& path, std::string_view expected, std::string_view valid) const;
     /// A finite number that is also finite as a 32-bit float.
     float real(const json& v, const std::string& path, std::string_view valid = "any finite number") const;
     /// A number in [lo, hi] (open ends where loOpen / hiOpen); `valid` describes the range.
-    float realIn(const json& v, const std::string& path, double lo, double hi, std::string_view valid,
-                 bool loOpen = false, bool hiOpen = false) const;
+    float realIn(const json& v, const std::string& path, double lo, double hi, std::string_view valid, bool loOpen = false,
+                 bool hiOpen = false) const;
     std::uint32_t integer(const json& v, const std::string& path, std::uint32_t lo, std::uint32_t hi,
                           std::string_view valid) const;
     bool boolean(const json& v, const std::string& path) const;

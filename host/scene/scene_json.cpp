@@ -84,7 +84,9 @@ json parseJson(const std::string& text, const std::string& file)
             frame.key = std::move(key);
             break;
         }
-        case E::value: beginElement(); break;
+        case E::value:
+            beginElement();
+            break;
         }
         return true;
     };
@@ -105,8 +107,7 @@ json parseJson(const std::string& text, const std::string& file)
         // nlohmann reports 1e999 and the like as a number overflow: not a finite number.
         std::string why = e.what();
         if (auto pos = why.find("] "); pos != std::string::npos) why = why.substr(pos + 2);
-        throw SceneError(file, tracker.path(true),
-                         fmt::format("{}: valid finite 32-bit floats (|x| < 3.4e38)", why));
+        throw SceneError(file, tracker.path(true), fmt::format("{}: valid finite 32-bit floats (|x| < 3.4e38)", why));
     } catch (const json::exception& e) {
         throw SceneError(file, tracker.path(true), fmt::format("malformed JSON: {}", e.what()));
     }

@@ -15,10 +15,7 @@ namespace oas::scene::detail {
 class Loader : private FieldReader {
 public:
     /// Mesh paths in the scene are relative to baseDir.
-    Loader(std::string file, std::filesystem::path baseDir)
-        : FieldReader(std::move(file)), baseDir_(std::move(baseDir))
-    {
-    }
+    Loader(std::string file, std::filesystem::path baseDir) : FieldReader(std::move(file)), baseDir_(std::move(baseDir)) {}
 
     /// The whole scene from the parsed file (Scene::path and a default name are the caller's).
     Scene load(const json& root) const;
@@ -33,8 +30,7 @@ private:
     void shapes(const json& v, Scene& scene) const;
     /// The renderer bounds a shape at shutter open and close; a velocity that carries it past the
     /// float range there would give infinite or NaN boxes (the loader checked positions at t = 0).
-    void checkFiniteBounds(const Shape& shape, const Scene& scene, const std::string& path,
-                           std::string_view kind) const;
+    void checkFiniteBounds(const Shape& shape, const Scene& scene, const std::string& path, std::string_view kind) const;
     /// One "mesh" entry of shapes[]: its OBJ file's triangles become shapes.
     void mesh(const json& s, const std::string& p, Scene& scene) const;
     void lights(const json& v, Scene& scene) const;

@@ -33,8 +33,8 @@ void Loader::materials(const json& v, Scene& scene) const
         mat.name = string(require(m, p, "name", "a unique non-empty string"), child(p, "name"));
         if (mat.name.empty()) fail(child(p, "name"), "\"\" is not valid: valid a unique non-empty string");
         if (int prev = scene.findMaterial(mat.name); prev >= 0)
-            fail(child(p, "name"), fmt::format("\"{}\" is already the name of materials[{}]: valid a unique name",
-                                               mat.name, prev));
+            fail(child(p, "name"),
+                 fmt::format("\"{}\" is already the name of materials[{}]: valid a unique name", mat.name, prev));
         if (auto* a = find(m, "albedo")) mat.albedo = color(*a, child(p, "albedo"), 0, 1);
         if (auto* r = find(m, "roughness"))
             mat.roughness = realIn(*r, child(p, "roughness"), 0, 1, "0 .. 1 (GGX alpha; 0 = smooth)");

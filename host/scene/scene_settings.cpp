@@ -27,8 +27,7 @@ Integrator Loader::integrator(const json& v) const
         it.maxDepth = 1;
         if (auto* d = find(v, "maxDepth")) it.maxDepth = integer(*d, child(p, "maxDepth"), 1, 1, "1 for direct lighting");
     } else {
-        objectKeys(v, p, "a path integrator",
-                   {"type", "maxDepth", "nextEventEstimation", "mis", "rouletteStartDepth"});
+        objectKeys(v, p, "a path integrator", {"type", "maxDepth", "nextEventEstimation", "mis", "rouletteStartDepth"});
         it.type = Integrator::Type::Path;
         if (auto* d = find(v, "maxDepth"))
             it.maxDepth = integer(*d, child(p, "maxDepth"), 1, kMaxPathDepth, "1 .. 256 scattering vertices");
@@ -74,11 +73,10 @@ SamplerSpec Loader::sampler(const json& v) const
                                                    "valid only with oa, bose, bush, bose-bush, addelman-kempthorne, cmjnd",
                                                    show(*s), spec.name));
         const bool twoOnly = spec.name == "bose" || spec.name == "bose-bush" || spec.name == "addelman-kempthorne";
-        spec.strength = twoOnly ? integer(*s, child(p, "strength"), 0, 2,
-                                          fmt::format("0 (default) or 2: {} has strength 2 only", spec.name))
-                                : integer(*s, child(p, "strength"), 0, 24, "0 (the sampler's default) or 2 .. 24");
-        if (spec.strength == 1)
-            fail(child(p, "strength"), "1 is out of range: valid 0 (the sampler's default) or 2 .. 24");
+        spec.strength =
+            twoOnly ? integer(*s, child(p, "strength"), 0, 2, fmt::format("0 (default) or 2: {} has strength 2 only", spec.name))
+                    : integer(*s, child(p, "strength"), 0, 24, "0 (the sampler's default) or 2 .. 24");
+        if (spec.strength == 1) fail(child(p, "strength"), "1 is out of range: valid 0 (the sampler's default) or 2 .. 24");
     }
     if (auto* s = find(v, "seed")) spec.seed = integer(*s, child(p, "seed"), 0, 0xffffffffu, "0 .. 4294967295");
     return spec;

@@ -19,8 +19,8 @@ void Loader::shapes(const json& v, Scene& scene) const
         const std::string p = element("shapes", i);
         const json& s = v[i];
         if (!s.is_object()) typeError(s, p, "an object", "a shape object");
-        const std::string type = choice(require(s, p, "type", "sphere | quad | rectangle | triangle | mesh"),
-                                        child(p, "type"), {"sphere", "quad", "rectangle", "triangle", "mesh"});
+        const std::string type = choice(require(s, p, "type", "sphere | quad | rectangle | triangle | mesh"), child(p, "type"),
+                                        {"sphere", "quad", "rectangle", "triangle", "mesh"});
         if (type == "mesh") {
             mesh(s, p, scene);
             continue;
@@ -30,8 +30,8 @@ void Loader::shapes(const json& v, Scene& scene) const
             objectKeys(s, p, "a sphere", {"type", "material", "center", "radius", "velocity"});
             shape.type = Shape::Type::Sphere;
             shape.center = vec3(require(s, p, "center", "[x, y, z]"), child(p, "center"));
-            shape.radius = realIn(require(s, p, "radius", "> 0 (world units)"), child(p, "radius"), 0, FLT_MAX,
-                                  "> 0 (world units)", true);
+            shape.radius =
+                realIn(require(s, p, "radius", "> 0 (world units)"), child(p, "radius"), 0, FLT_MAX, "> 0 (world units)", true);
         } else if (type == "quad" || type == "rectangle") {
             objectKeys(s, p, "a " + type, {"type", "material", "corner", "edgeU", "edgeV", "velocity"});
             shape.type = Shape::Type::Quad;
@@ -50,10 +50,9 @@ void Loader::shapes(const json& v, Scene& scene) const
         const bool light = scene.materials[shape.material].emits();
         const std::string kind = light ? "area light" : "shape";
         if (shape.type == Shape::Type::Quad && isDegenerateParallelogram(shape.edgeU, shape.edgeV))
-            fail(child(p, "edgeV"),
-                 fmt::format("zero-area {}: edgeU {} and edgeV {} are zero or parallel (area {}): valid "
-                             "non-parallel nonzero edges, area > 0",
-                             kind, show(shape.edgeU), show(shape.edgeV), shape.area()));
+            fail(child(p, "edgeV"), fmt::format("zero-area {}: edgeU {} and edgeV {} are zero or parallel (area {}): valid "
+                                                "non-parallel nonzero edges, area > 0",
+                                                kind, show(shape.edgeU), show(shape.edgeV), shape.area()));
         if (shape.type == Shape::Type::Triangle && isDegenerateTriangle(shape.p0, shape.p1, shape.p2))
             fail(p, fmt::format("zero-area {}: triangle p0 {} p1 {} p2 {} (area {}): valid non-collinear points, "
                                 "area > 0",
@@ -65,8 +64,7 @@ void Loader::shapes(const json& v, Scene& scene) const
     }
 }
 
-void Loader::checkFiniteBounds(const Shape& shape, const Scene& scene, const std::string& path,
-                               std::string_view kind) const
+void Loader::checkFiniteBounds(const Shape& shape, const Scene& scene, const std::string& path, std::string_view kind) const
 {
     for (const float t : {0.0f, scene.shutterOpen, scene.shutterClose}) {
         const Aabb box = shape.boundsAt(t);
@@ -107,11 +105,11 @@ void Loader::mesh(const json& s, const std::string& p, Scene& scene) const
     try {
         obj = readObj(info.resolved);
     } catch (const ObjError& e) {
-        fail(child(p, "file"),
-             e.line() ? fmt::format("cannot load mesh \"{}\": {}", info.file, e.what())
-                      : fmt::format("cannot load mesh \"{}\": {}: valid a readable OBJ file (relative paths start "
-                                    "at the scene file's directory)",
-                                    info.file, e.what()));
+        fail(child(p, "file"), e.line()
+                                   ? fmt::format("cannot load mesh \"{}\": {}", info.file, e.what())
+                                   : fmt::format("cannot load mesh \"{}\": {}: valid a readable OBJ file (relative paths start "
+                                                 "at the scene file's directory)",
+                                                 info.file, e.what()));
     }
     info.firstShape = scene.shapes.size();
     info.degenerateDropped = obj.degenerateDropped;

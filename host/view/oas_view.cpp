@@ -65,8 +65,10 @@ int main(int argc, char** argv)
         // 2) even without a display.
         std::unique_ptr<oas::view::RenderMode> render;
         std::unique_ptr<oas::view::PointsMode> pointsMode;
-        if (points) pointsMode = std::make_unique<oas::view::PointsMode>(o, dims, a, b);
-        else render = std::make_unique<oas::view::RenderMode>(scenePath, o, reference);
+        if (points)
+            pointsMode = std::make_unique<oas::view::PointsMode>(o, dims, a, b);
+        else
+            render = std::make_unique<oas::view::RenderMode>(scenePath, o, reference);
 
         glfwSetErrorCallback([](int, const char*) {});  // reported through glfwGetError instead
         if (!glfwInit())

@@ -23,46 +23,55 @@ PointsMode::PointsMode(const CommonOptions& o, std::uint32_t dims, std::uint32_t
 void PointsMode::key(const ScriptedKey& k, Viewer& v)
 {
     switch (k.key) {
-        case GLFW_KEY_RIGHT_BRACKET: step(+1); break;
-        case GLFW_KEY_LEFT_BRACKET: step(-1); break;
-        case GLFW_KEY_PERIOD: {
-            // The same pair in the next block (wrapping), to see blocks' independence.
-            const std::uint32_t bd = std::max(1u, pattern_.blockDims);
-            a_ = (a_ + bd) % dims_;
-            b_ = (b_ + bd) % dims_;
-            dirty_ = true;
-            break;
+    case GLFW_KEY_RIGHT_BRACKET:
+        step(+1);
+        break;
+    case GLFW_KEY_LEFT_BRACKET:
+        step(-1);
+        break;
+    case GLFW_KEY_PERIOD: {
+        // The same pair in the next block (wrapping), to see blocks' independence.
+        const std::uint32_t bd = std::max(1u, pattern_.blockDims);
+        a_ = (a_ + bd) % dims_;
+        b_ = (b_ + bd) % dims_;
+        dirty_ = true;
+        break;
+    }
+    case GLFW_KEY_S: {
+        const std::string old = sampler_;
+        for (std::size_t tries = 0; tries < samplerCycle().size(); ++tries) {
+            sampler_ = cycled(samplerCycle(), sampler_, k.shift ? -1 : 1);
+            if (makePattern(false)) return;
         }
-        case GLFW_KEY_S: {
-            const std::string old = sampler_;
-            for (std::size_t tries = 0; tries < samplerCycle().size(); ++tries) {
-                sampler_ = cycled(samplerCycle(), sampler_, k.shift ? -1 : 1);
-                if (makePattern(false)) return;
-            }
-            sampler_ = old;
-            break;
-        }
-        case GLFW_KEY_O: {
-            const std::string old = offset_;
-            offset_ = cycled(kOffsets, offset_, 1);
-            if (!makePattern(false)) offset_ = old;
-            break;
-        }
-        case GLFW_KEY_EQUAL:
-        case GLFW_KEY_KP_ADD:
-        case GLFW_KEY_MINUS:
-        case GLFW_KEY_KP_SUBTRACT: {
-            // The sampler's next valid count up or down (Bose: q^2 only, ...).
-            const std::uint32_t old = spp_;
-            const bool up = k.key == GLFW_KEY_EQUAL || k.key == GLFW_KEY_KP_ADD;
-            spp_ = std::min(nextCount(sampler_, pattern_.strength, dims_, old, up), 1u << 16);
-            if (!makePattern(false)) spp_ = old;
-            break;
-        }
-        case GLFW_KEY_P: saveRequested_ = true; break;
-        case GLFW_KEY_Q:
-        case GLFW_KEY_ESCAPE: v.close(); break;
-        default: break;
+        sampler_ = old;
+        break;
+    }
+    case GLFW_KEY_O: {
+        const std::string old = offset_;
+        offset_ = cycled(kOffsets, offset_, 1);
+        if (!makePattern(false)) offset_ = old;
+        break;
+    }
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD:
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT: {
+        // The sampler's next valid count up or down (Bose: q^2 only, ...).
+        const std::uint32_t old = spp_;
+        const bool up = k.key == GLFW_KEY_EQUAL || k.key == GLFW_KEY_KP_ADD;
+        spp_ = std::min(nextCount(sampler_, pattern_.strength, dims_, old, up), 1u << 16);
+        if (!makePattern(false)) spp_ = old;
+        break;
+    }
+    case GLFW_KEY_P:
+        saveRequested_ = true;
+        break;
+    case GLFW_KEY_Q:
+    case GLFW_KEY_ESCAPE:
+        v.close();
+        break;
+    default:
+        break;
     }
 }
 
@@ -75,10 +84,9 @@ const Frame& PointsMode::frame(Viewer& v)
     if (dirty_) {
         dirty_ = false;
         promise_ = strataPromise(pattern_, a_, b_);
-        job_ = std::async(std::launch::async,
-                          [this, &v, pattern = pattern_, a = a_, b = b_, dims = dims_, labels = labels()] {
-                              return draw(v, pattern, a, b, dims, labels);
-                          });
+        job_ = std::async(std::launch::async, [this, &v, pattern = pattern_, a = a_, b = b_, dims = dims_, labels = labels()] {
+            return draw(v, pattern, a, b, dims, labels);
+        });
     }
     return shown_;
 }
@@ -92,8 +100,8 @@ void PointsMode::release()
 
 std::string PointsMode::title() const
 {
-    return "oas-view points: " + describe(pattern_) + " | dims (" + std::to_string(a_) + ", " + std::to_string(b_) +
-           ") of " + std::to_string(dims_) + " | " + promise_.what + " | spectrum of " + std::to_string(kSets) +
+    return "oas-view points: " + describe(pattern_) + " | dims (" + std::to_string(a_) + ", " + std::to_string(b_) + ") of " +
+           std::to_string(dims_) + " | " + promise_.what + " | spectrum of " + std::to_string(kSets) +
            " randomizations, |k| <= " + std::to_string(kRadius);
 }
 
@@ -104,14 +112,13 @@ PointsLabels PointsMode::labels() const
     // Fields apart by spaces, not '|': stb_easy_font draws '|' much like 'l'.
     PointsLabels l;
     l.header = "sampler " + sampler_ + "     " + std::to_string(pattern_.N) + " spp     " +
-               (oa ? "offset " + offset_ : "no offset (not an OA)") + "     dimensions " + std::to_string(a_) +
-               " (x) and " + std::to_string(b_) + " (y) of " + std::to_string(dims_) + "     seed " +
-               std::to_string(o_.seed);
+               (oa ? "offset " + offset_ : "no offset (not an OA)") + "     dimensions " + std::to_string(a_) + " (x) and " +
+               std::to_string(b_) + " (y) of " + std::to_string(dims_) + "     seed " + std::to_string(o_.seed);
     l.detail = describe(pattern_) + ";   " + strataPromise(pattern_, a_, b_).what;
     l.xAxis = "dim " + std::to_string(a_);
     l.yAxis = "dim " + std::to_string(b_);
-    l.spectrum = "power spectrum: mean of " + std::to_string(kSets) + " sets, k in -" + std::to_string(kRadius) +
-                 " .. " + std::to_string(kRadius);
+    l.spectrum = "power spectrum: mean of " + std::to_string(kSets) + " sets, k in -" + std::to_string(kRadius) + " .. " +
+                 std::to_string(kRadius);
     l.spectrumScale = "log: black 0.01 .. white 10 (random: 1)";
     return l;
 }

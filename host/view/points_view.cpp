@@ -74,12 +74,11 @@ StrataPromise strataPromise(const Pattern& pattern, std::uint32_t a, std::uint32
     if (sameBlock && pattern.strength >= 2) {
         p.grid = pattern.s;
         p.what = "same block " + std::to_string(a / pattern.blockDims) + ": " + std::to_string(pattern.s) + "x" +
-                 std::to_string(pattern.s) + " strata, " + std::to_string(pattern.N / (pattern.s * pattern.s)) +
-                 " point(s) each";
+                 std::to_string(pattern.s) + " strata, " + std::to_string(pattern.N / (pattern.s * pattern.s)) + " point(s) each";
     } else {
-        p.what = a == b ? "the same dimension twice" : "blocks " + std::to_string(a / pattern.blockDims) + " and " +
-                                                          std::to_string(b / pattern.blockDims) +
-                                                          ": independent OAs, no joint strata";
+        p.what = a == b ? "the same dimension twice"
+                        : "blocks " + std::to_string(a / pattern.blockDims) + " and " + std::to_string(b / pattern.blockDims) +
+                              ": independent OAs, no joint strata";
     }
     if (p.latinHypercube) p.what += "; " + std::to_string(pattern.N) + " strata per axis";
     return p;
@@ -99,8 +98,8 @@ std::uint32_t pixelOf(float v, std::uint32_t size)
     return std::uint32_t(std::clamp(p, 0.0, double(size - 1)));
 }
 
-Frame drawProjection(const std::vector<float>& xs, const std::vector<float>& ys, std::uint32_t size,
-                     const StrataPromise& promise, std::uint32_t n)
+Frame drawProjection(const std::vector<float>& xs, const std::vector<float>& ys, std::uint32_t size, const StrataPromise& promise,
+                     std::uint32_t n)
 {
     Frame f;
     f.resize(size, size, 0);
@@ -123,8 +122,7 @@ Frame drawProjection(const std::vector<float>& xs, const std::vector<float>& ys,
     // Centred on the exact position (pixelOf's pixel holds it: floor(v * size)); y up.
     const double r = pointRadius(n, size);
     const std::size_t count = std::min(xs.size(), ys.size());
-    for (std::size_t i = 0; i < count; ++i)
-        disc(f, double(xs[i]) * size, size - double(ys[i]) * size, r, kPointRgb);
+    for (std::size_t i = 0; i < count; ++i) disc(f, double(xs[i]) * size, size - double(ys[i]) * size, r, kPointRgb);
     return f;
 }
 
@@ -142,7 +140,7 @@ Frame drawSpectrum(const std::vector<double>& power, int radius, std::uint32_t s
     f.resize(size, size, 0);
     for (std::uint32_t y = 0; y < size; ++y)
         for (std::uint32_t x = 0; x < size; ++x) {
-            const std::uint32_t kx = x * w / size, ky = (size - 1 - y) * w / size;  // ky up
+            const std::uint32_t kx = x * w / size, ky = (size - 1 - y) * w / size;     // ky up
             if (kx == std::uint32_t(radius) && ky == std::uint32_t(radius)) continue;  // DC: black
             const double p = power[std::size_t(ky) * w + kx];
             const double t = std::clamp((std::log10(std::max(p, 1e-300)) + 2.0) / 3.0, 0.0, 1.0);  // 0.01 .. 10
@@ -171,8 +169,8 @@ PointsLayout pointsLayout(std::uint32_t n, int radius)
     return l;
 }
 
-Frame drawPointsView(const std::vector<float>& xs, const std::vector<float>& ys, const StrataPromise& promise,
-                     std::uint32_t n, const std::vector<double>& power, int radius, const PointsLabels& labels)
+Frame drawPointsView(const std::vector<float>& xs, const std::vector<float>& ys, const StrataPromise& promise, std::uint32_t n,
+                     const std::vector<double>& power, int radius, const PointsLabels& labels)
 {
     const PointsLayout l = pointsLayout(n, radius);
     const std::uint32_t s = l.textScale, line = textHeight(s);
@@ -204,10 +202,9 @@ Frame drawPointsView(const std::vector<float>& xs, const std::vector<float>& ys,
         drawText(f, int(left - kTick - kPad - w), int(y) - int(line / 2), names[i], kTextRgb, s);
     }
     const std::uint32_t xName = textWidth(labels.xAxis, s), yName = textWidth(labels.yAxis, s);
-    drawText(f, int(l.panelX + l.panel / 2 - xName / 2), int(bottom + kTick + kPad + line + kPad + 2), labels.xAxis,
-             kTextRgb, s);
-    drawText(f, int(left - kTick - kPad - textWidth("1/2", s) - 3 * kPad - line),
-             int(l.panelY + l.panel / 2 + yName / 2), labels.yAxis, kTextRgb, s, /*upward=*/true);
+    drawText(f, int(l.panelX + l.panel / 2 - xName / 2), int(bottom + kTick + kPad + line + kPad + 2), labels.xAxis, kTextRgb, s);
+    drawText(f, int(left - kTick - kPad - textWidth("1/2", s) - 3 * kPad - line), int(l.panelY + l.panel / 2 + yName / 2),
+             labels.yAxis, kTextRgb, s, /*upward=*/true);
 
     // The two header lines span the window; the spectrum's lines go under it.
     const std::uint32_t room = l.width - 2 * kPad;

@@ -15,9 +15,9 @@ namespace oas::view {
 
 /// The stratification a pattern promises for the projection onto dimensions (a, b).
 struct StrataPromise {
-    std::uint32_t grid = 0;    ///< s: every s x s cell holds N / s^2 points (0: no promise)
+    std::uint32_t grid = 0;       ///< s: every s x s cell holds N / s^2 points (0: no promise)
     bool latinHypercube = false;  ///< each axis's N strata hold one point each (MJ / CMJ offsets)
-    std::string what;          ///< one line for the title
+    std::string what;             ///< one line for the title
 };
 /// OA constructions only: the same block (d / blockDims) and strength >= 2 give the s x s grid
 /// (Bose, Bush, Bose-Bush, Addelman-Kempthorne, CMJND); MJ and CMJ offsets give every dimension the
@@ -49,8 +49,8 @@ double pointRadius(std::uint32_t n, std::uint32_t size);
 /// ticks along the left and bottom edges (when N <= size / 3, so that they stay apart), then each
 /// point as an anti-aliased white disc of pointRadius(n, size) centred on its exact position (on
 /// top; the pixel holding the centre is fully white).
-Frame drawProjection(const std::vector<float>& xs, const std::vector<float>& ys, std::uint32_t size,
-                     const StrataPromise& promise, std::uint32_t n);
+Frame drawProjection(const std::vector<float>& xs, const std::vector<float>& ys, std::uint32_t size, const StrataPromise& promise,
+                     std::uint32_t n);
 
 /// The power spectrum (addPeriodogram's (2 radius + 1)^2 values, DC in the middle) as a grey
 /// image of `size` x `size` pixels, log scale from 0.01 to 10 times the power of independent points
@@ -63,7 +63,7 @@ constexpr int kSpectrumRadius = 32;
 /// Where the points view puts its parts. The picture's size depends on the spectrum's radius
 /// only, so the window keeps its size when the + and - keys change the count.
 struct PointsLayout {
-    std::uint32_t width = 0, height = 0;  ///< the whole picture (the window)
+    std::uint32_t width = 0, height = 0;              ///< the whole picture (the window)
     std::uint32_t panelX = 0, panelY = 0, panel = 0;  ///< the projection: top-left corner and side
     std::uint32_t spectrumX = 0, spectrumY = 0, spectrum = 0;
     std::uint32_t textScale = 2;  ///< labels: stb_easy_font's glyphs at this integer scale
@@ -73,16 +73,16 @@ PointsLayout pointsLayout(std::uint32_t n, int radius);
 
 /// What the labels say (composed by the caller, which knows the request).
 struct PointsLabels {
-    std::string header;  ///< above the panels: sampler, spp, offset and dimension pair
-    std::string detail;  ///< second line: the construction and the strata it promises
-    std::string xAxis, yAxis;  ///< under the x axis; up the y axis
+    std::string header;                   ///< above the panels: sampler, spp, offset and dimension pair
+    std::string detail;                   ///< second line: the construction and the strata it promises
+    std::string xAxis, yAxis;             ///< under the x axis; up the y axis
     std::string spectrum, spectrumScale;  ///< under the spectrum
 };
 
 /// The whole points view: the labels, the projection panel in its frame with ticks and tick
 /// labels at 0, 1/2 and 1, and the framed spectrum, on a dark grey background.
-Frame drawPointsView(const std::vector<float>& xs, const std::vector<float>& ys, const StrataPromise& promise,
-                     std::uint32_t n, const std::vector<double>& power, int radius, const PointsLabels& labels);
+Frame drawPointsView(const std::vector<float>& xs, const std::vector<float>& ys, const StrataPromise& promise, std::uint32_t n,
+                     const std::vector<double>& power, int radius, const PointsLabels& labels);
 
 /// Integer-zoomed copy (nearest neighbour).
 Frame zoomed(const Frame& f, std::uint32_t zoom);

@@ -27,7 +27,7 @@ struct Presenter::Impl {
     Owned<VkCommandPool> pool;
     VkCommandBuffer cmd = VK_NULL_HANDLE;
     std::unique_ptr<vk::Buffer> upload, download;
-    bool stale = true;  ///< the swapchain must be (re)made before the next frame
+    bool stale = true;      ///< the swapchain must be (re)made before the next frame
     bool madeOnce = false;  ///< a swapchain existed before: the next one is a recreation
 
     Impl(vk::Context& c, GLFWwindow* w) : ctx(c), window(w)
@@ -203,8 +203,8 @@ bool Presenter::present(const Frame& frame, bool readBack)
     }
     const VkDevice dev = m.ctx.device();
     std::uint32_t index = 0;
-    if (!m.handle(vkAcquireNextImageKHR(dev, m.swapchain.get(), std::numeric_limits<std::uint64_t>::max(),
-                                        m.acquired.get(), VK_NULL_HANDLE, &index),
+    if (!m.handle(vkAcquireNextImageKHR(dev, m.swapchain.get(), std::numeric_limits<std::uint64_t>::max(), m.acquired.get(),
+                                        VK_NULL_HANDLE, &index),
                   "vkAcquireNextImageKHR"))
         return false;
 
@@ -251,8 +251,7 @@ bool Presenter::present(const Frame& frame, bool readBack)
     if (readBack) {
         barrier(layout, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                 VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-        vkCmdCopyImageToBuffer(m.cmd, m.images[index], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.download->handle(), 1,
-                               &region);
+        vkCmdCopyImageToBuffer(m.cmd, m.images[index], VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, m.download->handle(), 1, &region);
         VkBufferMemoryBarrier bb{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER};
         bb.srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT;
         bb.dstAccessMask = VK_ACCESS_HOST_READ_BIT;

@@ -30,10 +30,7 @@ struct Frame {
         rgb.assign(std::size_t(w) * h * 3, fill);
     }
     std::uint8_t* at(std::uint32_t x, std::uint32_t y) { return rgb.data() + (std::size_t(y) * width + x) * 3; }
-    const std::uint8_t* at(std::uint32_t x, std::uint32_t y) const
-    {
-        return rgb.data() + (std::size_t(y) * width + x) * 3;
-    }
+    const std::uint8_t* at(std::uint32_t x, std::uint32_t y) const { return rgb.data() + (std::size_t(y) * width + x) * 3; }
 };
 
 class Presenter {

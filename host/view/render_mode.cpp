@@ -27,9 +27,8 @@ RenderMode::RenderMode(const std::string& scenePath, const CommonOptions& o, con
         }
         if (reference_->width != scene_.width || reference_->height != scene_.height)
             throw UsageError("--reference " + referencePath + " is " + std::to_string(reference_->width) + "x" +
-                             std::to_string(reference_->height) + ", the scene renders " +
-                             std::to_string(scene_.width) + "x" + std::to_string(scene_.height) +
-                             ": valid a reference of the scene's size");
+                             std::to_string(reference_->height) + ", the scene renders " + std::to_string(scene_.width) + "x" +
+                             std::to_string(scene_.height) + ": valid a reference of the scene's size");
     }
     choose(scene_.sampler.name, /*fromOptions=*/!o.sampler.empty() || o.spp || o.strength);
     zoom_ = o.zoom ? o.zoom : std::max(1u, std::min(768u / std::max(1u, scene_.width), 768u / std::max(1u, scene_.height)));
@@ -56,49 +55,58 @@ bool RenderMode::choose(const std::string& sampler, bool fromOptions)
 void RenderMode::key(const ScriptedKey& k, Viewer& v)
 {
     switch (k.key) {
-        case GLFW_KEY_S: {
-            // The next sampler that has a pattern for this scene's dimensions and spp.
-            std::string next = scene_.sampler.name;
-            for (std::size_t tries = 0; tries < samplerCycle().size(); ++tries) {
-                next = cycled(samplerCycle(), next, k.shift ? -1 : 1);
-                if (choose(next, true)) break;
-            }
-            restart();
-            break;
+    case GLFW_KEY_S: {
+        // The next sampler that has a pattern for this scene's dimensions and spp.
+        std::string next = scene_.sampler.name;
+        for (std::size_t tries = 0; tries < samplerCycle().size(); ++tries) {
+            next = cycled(samplerCycle(), next, k.shift ? -1 : 1);
+            if (choose(next, true)) break;
         }
-        case GLFW_KEY_O: {
-            const std::string old = scene_.sampler.offset;
-            scene_.sampler.offset = cycled(kOffsets, old, 1);
-            if (!choose(scene_.sampler.name, true)) scene_.sampler.offset = old;
-            restart();
-            break;
-        }
-        case GLFW_KEY_EQUAL:
-        case GLFW_KEY_KP_ADD:
-        case GLFW_KEY_MINUS:
-        case GLFW_KEY_KP_SUBTRACT: {
-            const std::uint32_t old = scene_.sampler.spp;
-            const bool up = k.key == GLFW_KEY_EQUAL || k.key == GLFW_KEY_KP_ADD;
-            scene_.sampler.spp = nextCount(scene_.sampler.name, pattern_.strength, plan_.sampleDims, old, up);
-            if (!choose(scene_.sampler.name, true)) scene_.sampler.spp = old;
-            restart();
-            break;
-        }
-        case GLFW_KEY_R: restart(); break;
-        case GLFW_KEY_E:
-            if (reference_) falseColour_ = !falseColour_;
-            else std::fprintf(stderr, "oas-view: e: no --reference to compare with\n");
-            break;
-        case GLFW_KEY_P: save(); break;
-        case GLFW_KEY_Z:
-            // Zoom 1x, 2x, 3x: resizes the window (the swapchain follows).
-            zoom_ = zoom_ % 3 + 1;
-            glfwSetWindowSize(v.window(), int(windowWidth()), int(windowHeight()));
-            shown_.width = 0;  // redraw at the new zoom
-            break;
-        case GLFW_KEY_Q:
-        case GLFW_KEY_ESCAPE: v.close(); break;
-        default: break;
+        restart();
+        break;
+    }
+    case GLFW_KEY_O: {
+        const std::string old = scene_.sampler.offset;
+        scene_.sampler.offset = cycled(kOffsets, old, 1);
+        if (!choose(scene_.sampler.name, true)) scene_.sampler.offset = old;
+        restart();
+        break;
+    }
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD:
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT: {
+        const std::uint32_t old = scene_.sampler.spp;
+        const bool up = k.key == GLFW_KEY_EQUAL || k.key == GLFW_KEY_KP_ADD;
+        scene_.sampler.spp = nextCount(scene_.sampler.name, pattern_.strength, plan_.sampleDims, old, up);
+        if (!choose(scene_.sampler.name, true)) scene_.sampler.spp = old;
+        restart();
+        break;
+    }
+    case GLFW_KEY_R:
+        restart();
+        break;
+    case GLFW_KEY_E:
+        if (reference_)
+            falseColour_ = !falseColour_;
+        else
+            std::fprintf(stderr, "oas-view: e: no --reference to compare with\n");
+        break;
+    case GLFW_KEY_P:
+        save();
+        break;
+    case GLFW_KEY_Z:
+        // Zoom 1x, 2x, 3x: resizes the window (the swapchain follows).
+        zoom_ = zoom_ % 3 + 1;
+        glfwSetWindowSize(v.window(), int(windowWidth()), int(windowHeight()));
+        shown_.width = 0;  // redraw at the new zoom
+        break;
+    case GLFW_KEY_Q:
+    case GLFW_KEY_ESCAPE:
+        v.close();
+        break;
+    default:
+        break;
     }
 }
 
@@ -145,8 +153,7 @@ const Frame& RenderMode::frame(Viewer& v)
         cursor_.reset();
     }
     if (!cursor_) {
-        cursor_.emplace(scene_.width, scene_.height, scene_.sampler.spp, render::samplesPerBatch(plan_), o_.seed,
-                        tile_);
+        cursor_.emplace(scene_.width, scene_.height, scene_.sampler.spp, render::samplesPerBatch(plan_), o_.seed, tile_);
         renderStart_ = Clock::now();
         traceSeconds_ = 0;
     }
@@ -161,8 +168,10 @@ const Frame& RenderMode::frame(Viewer& v)
             // Keep the slowest dispatch of a pass near 10-40 ms, so that a frame never waits long
             // for one (tiles of one image differ in cost many times over: the slowest decides).
             // The tile only changes between passes, which leaves the accumulation oas-render's.
-            if (passSlowest_ > 0.04 && tile_ > 8) tile_ /= 2;
-            else if (passSlowest_ < 0.01 && tile_ < render::kRenderTile) tile_ *= 2;
+            if (passSlowest_ > 0.04 && tile_ > 8)
+                tile_ /= 2;
+            else if (passSlowest_ < 0.01 && tile_ < render::kRenderTile)
+                tile_ *= 2;
             cursor_->setTile(tile_);
             passSlowest_ = 0;
         }
@@ -172,8 +181,7 @@ const Frame& RenderMode::frame(Viewer& v)
         // Completed passes only, so every pixel of the shown image has the same spp.
         shownSums_ = tracer_->accumulation();
         image_ = shownSums_.image();
-        const image::Image shownImage =
-            falseColour_ && reference_ ? image::falseColourError(image_, *reference_) : image_;
+        const image::Image shownImage = falseColour_ && reference_ ? image::falseColourError(image_, *reference_) : image_;
         Frame f;
         f.width = scene_.width;
         f.height = scene_.height;
@@ -189,8 +197,7 @@ const Frame& RenderMode::frame(Viewer& v)
     t.precision(1);
     t << elapsed << " s, ";
     t.precision(2);
-    t << (traceSeconds_ > 0 ? double(scene_.width) * scene_.height * done / traceSeconds_ / 1e6 : 0.0)
-      << " Mpaths/s";
+    t << (traceSeconds_ > 0 ? double(scene_.width) * scene_.height * done / traceSeconds_ / 1e6 : 0.0) << " Mpaths/s";
     if (reference_ && done) {
         t.precision(3);
         t << std::scientific << ", relMSE " << relMse_;

@@ -56,8 +56,7 @@ std::uint32_t textHeight(std::uint32_t scale)
     return 9 * scale;
 }
 
-void drawText(Frame& f, int x, int y, const std::string& text, const std::uint8_t rgb[3], std::uint32_t scale,
-              bool upward)
+void drawText(Frame& f, int x, int y, const std::string& text, const std::uint8_t rgb[3], std::uint32_t scale, bool upward)
 {
     const int s = int(scale);
     for (const Rect& r : glyphRects(text))

@@ -37,13 +37,20 @@ std::vector<ScriptedKey> parseScript(const std::string& text)
             k.key = GLFW_KEY_ESCAPE;
         } else if (name.size() == 1) {
             const char c = name[0];
-            if (c >= 'a' && c <= 'z') k.key = GLFW_KEY_A + (c - 'a');
-            else if (c >= 'A' && c <= 'Z') k.key = GLFW_KEY_A + (c - 'A'), k.shift = true;
-            else if (c == '+') k.key = GLFW_KEY_EQUAL, k.shift = true;
-            else if (c == '-') k.key = GLFW_KEY_MINUS;
-            else if (c == ']') k.key = GLFW_KEY_RIGHT_BRACKET;
-            else if (c == '[') k.key = GLFW_KEY_LEFT_BRACKET;
-            else if (c == '.') k.key = GLFW_KEY_PERIOD;
+            if (c >= 'a' && c <= 'z')
+                k.key = GLFW_KEY_A + (c - 'a');
+            else if (c >= 'A' && c <= 'Z')
+                k.key = GLFW_KEY_A + (c - 'A'), k.shift = true;
+            else if (c == '+')
+                k.key = GLFW_KEY_EQUAL, k.shift = true;
+            else if (c == '-')
+                k.key = GLFW_KEY_MINUS;
+            else if (c == ']')
+                k.key = GLFW_KEY_RIGHT_BRACKET;
+            else if (c == '[')
+                k.key = GLFW_KEY_LEFT_BRACKET;
+            else if (c == '.')
+                k.key = GLFW_KEY_PERIOD;
         }
         if (k.key == 0)
             throw UsageError("--script: unknown key '" + name + "' (valid: a letter, + - ] [ . or esc, e.g. \"s@3 r@5\")");
@@ -69,8 +76,7 @@ std::string cycled(const std::vector<std::string>& list, const std::string& curr
     return list[std::size_t(((i + step) % n + n) % n)];
 }
 
-std::uint32_t nextCount(const std::string& sampler, std::uint32_t strength, std::uint32_t dims, std::uint32_t current,
-                        bool up)
+std::uint32_t nextCount(const std::string& sampler, std::uint32_t strength, std::uint32_t dims, std::uint32_t current, bool up)
 {
     try {
         if (up) {

@@ -55,8 +55,7 @@ std::string cycled(const std::vector<std::string>& list, const std::string& curr
 
 /// The + and - keys: the sampler's smallest valid count >= 2 x current, or its largest valid
 /// count <= current / 2 (Bose only makes q^2, Bose-Bush 2 q^2, ...); the current one if none.
-std::uint32_t nextCount(const std::string& sampler, std::uint32_t strength, std::uint32_t dims, std::uint32_t current,
-                        bool up);
+std::uint32_t nextCount(const std::string& sampler, std::uint32_t strength, std::uint32_t dims, std::uint32_t current, bool up);
 
 /// The options both modes take from the command line.
 struct CommonOptions {
@@ -101,7 +100,8 @@ void writeScreenshot(const std::string& path, const Frame& frame);
 template <class Mode>
 int runFrames(Mode& mode, Viewer& viewer, const CommonOptions& o)
 {
-    constexpr bool savesScreens = requires(Mode& m) {
+    constexpr bool savesScreens = requires(Mode & m)
+    {
         m.takeSaveRequest();
         m.stem();
     };
@@ -133,8 +133,8 @@ int runFrames(Mode& mode, Viewer& viewer, const CommonOptions& o)
         if (!shown) glfwWaitEventsTimeout(0.01);  // nothing shown (pipeline build, minimised)
     }
     mode.release();
-    std::fprintf(stderr, "oas-view: %u frames shown (%u loops), slowest loop %.0f ms, swapchain recreated %u time(s)\n",
-                 frame, loops, slowestFrame * 1000, viewer.presenter().recreations());
+    std::fprintf(stderr, "oas-view: %u frames shown (%u loops), slowest loop %.0f ms, swapchain recreated %u time(s)\n", frame,
+                 loops, slowestFrame * 1000, viewer.presenter().recreations());
     if (const std::size_t n = viewer.validationFindings()) {
         std::fprintf(stderr, "oas-view: error: %zu Vulkan validation message(s) (above)\n", n);
         return 3;

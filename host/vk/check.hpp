@@ -9,19 +9,20 @@
 namespace oas::vk {
 
 class VulkanError : public std::runtime_error {
- public:
-  explicit VulkanError(const std::string& what, VkResult result = VK_ERROR_UNKNOWN)
-      : std::runtime_error(what), result_(result) {}
-  VkResult result() const noexcept { return result_; }
+public:
+    explicit VulkanError(const std::string& what, VkResult result = VK_ERROR_UNKNOWN) : std::runtime_error(what), result_(result)
+    {
+    }
+    VkResult result() const noexcept { return result_; }
 
- private:
-  VkResult result_;
+private:
+    VkResult result_;
 };
 
 // Thrown when no usable Vulkan instance or device exists, so tests can skip instead of failing.
 class NoDeviceError : public VulkanError {
- public:
-  using VulkanError::VulkanError;
+public:
+    using VulkanError::VulkanError;
 };
 
 // "VK_ERROR_DEVICE_LOST" etc.; our own table so we do not depend on vk_enum_string_helper.h,
@@ -32,9 +33,8 @@ const char* resultName(VkResult r) noexcept;
 
 }  // namespace oas::vk
 
-#define OAS_VK_CHECK(call)                                                         \
-  do {                                                                             \
-    const VkResult oas_vk_check_result_ = (call);                                  \
-    if (oas_vk_check_result_ != VK_SUCCESS)                                        \
-      ::oas::vk::throwVkError(oas_vk_check_result_, #call, __FILE__, __LINE__);    \
-  } while (0)
+#define OAS_VK_CHECK(call)                                                                                                       \
+    do {                                                                                                                         \
+        const VkResult oas_vk_check_result_ = (call);                                                                            \
+        if (oas_vk_check_result_ != VK_SUCCESS) ::oas::vk::throwVkError(oas_vk_check_result_, #call, __FILE__, __LINE__);        \
+    } while (0)

@@ -16,540 +16,568 @@ constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
 // Retries on VK_INCOMPLETE, which the two-call pattern can return if the set grows in between.
 template <class T, class F>
-std::vector<T> enumerate(const char* what, F&& f) {
-  for (;;) {
-    uint32_t n = 0;
-    VkResult r = f(&n, nullptr);
-    if (r != VK_SUCCESS) throwVkError(r, what, __FILE__, __LINE__);
-    std::vector<T> v(n);
-    r = f(&n, v.data());
-    if (r == VK_INCOMPLETE) continue;
-    if (r != VK_SUCCESS) throwVkError(r, what, __FILE__, __LINE__);
-    v.resize(n);
-    return v;
-  }
+std::vector<T> enumerate(const char* what, F&& f)
+{
+    for (;;) {
+        uint32_t n = 0;
+        VkResult r = f(&n, nullptr);
+        if (r != VK_SUCCESS) throwVkError(r, what, __FILE__, __LINE__);
+        std::vector<T> v(n);
+        r = f(&n, v.data());
+        if (r == VK_INCOMPLETE) continue;
+        if (r != VK_SUCCESS) throwVkError(r, what, __FILE__, __LINE__);
+        v.resize(n);
+        return v;
+    }
 }
 
-bool envFlag(const char* name) {
-  const char* v = std::getenv(name);
-  return v && *v && std::strcmp(v, "0") != 0;
+bool envFlag(const char* name)
+{
+    const char* v = std::getenv(name);
+    return v && *v && std::strcmp(v, "0") != 0;
 }
 
-bool hasExtension(const std::vector<VkExtensionProperties>& exts, const char* name) {
-  return std::any_of(exts.begin(), exts.end(),
-                     [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+bool hasExtension(const std::vector<VkExtensionProperties>& exts, const char* name)
+{
+    return std::any_of(exts.begin(), exts.end(),
+                       [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
 }
 
-int typeRank(VkPhysicalDeviceType t) {
-  switch (t) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 4;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 3;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 1;
-    default: return 0;
-  }
+int typeRank(VkPhysicalDeviceType t)
+{
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+        return 3;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+        return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+        return 1;
+    default:
+        return 0;
+    }
 }
 
-std::string apiString(uint32_t v) {
-  return fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v), VK_API_VERSION_PATCH(v));
+std::string apiString(uint32_t v)
+{
+    return fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(v), VK_API_VERSION_MINOR(v), VK_API_VERSION_PATCH(v));
 }
 
 }  // namespace
 
-void selectLavapipeIfUnset() {
-  if (std::getenv("VK_DRIVER_FILES") || std::getenv("VK_ICD_FILENAMES")) return;
-  std::error_code ec;
-  if (!std::filesystem::exists(kLavapipeIcd, ec)) return;
-  // Loaders before 1.3.207 only read VK_ICD_FILENAMES, newer ones prefer VK_DRIVER_FILES.
-  ::setenv("VK_DRIVER_FILES", kLavapipeIcd, 0);
-  ::setenv("VK_ICD_FILENAMES", kLavapipeIcd, 0);
+void selectLavapipeIfUnset()
+{
+    if (std::getenv("VK_DRIVER_FILES") || std::getenv("VK_ICD_FILENAMES")) return;
+    std::error_code ec;
+    if (!std::filesystem::exists(kLavapipeIcd, ec)) return;
+    // Loaders before 1.3.207 only read VK_ICD_FILENAMES, newer ones prefer VK_DRIVER_FILES.
+    ::setenv("VK_DRIVER_FILES", kLavapipeIcd, 0);
+    ::setenv("VK_ICD_FILENAMES", kLavapipeIcd, 0);
 }
 
 // ---------------------------------------------------------------- Context
 
-VKAPI_ATTR VkBool32 VKAPI_CALL Context::onDebugMessage(
-    VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
-    const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
-  auto* self = static_cast<Context*>(user);
-  const std::string_view id = data->pMessageIdName ? data->pMessageIdName : "-";
-  const char* sev = severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT     ? "error"
-                    : severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT ? "warning"
-                                                                                  : "info";
-  std::string msg = fmt::format("[{}] {}: {}", sev, id, data->pMessage ? data->pMessage : "");
-  // Info and verbose messages are notes, not findings: the Khronos layer reports misuse at warning
-  // or error severity, and what it says at info is about its environment (its status line at
-  // instance creation, "cannot open shader validation cache" on a machine whose ~/.cache is new).
-  // A fresh machine must not fail a test that a warm one passes.
-  if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
-    if (self->verbose_) fmt::print(stderr, "oas::vk validation note {}\n", msg);
+VKAPI_ATTR VkBool32 VKAPI_CALL Context::onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                       VkDebugUtilsMessageTypeFlagsEXT types,
+                                                       const VkDebugUtilsMessengerCallbackDataEXT* data, void* user)
+{
+    auto* self = static_cast<Context*>(user);
+    const std::string_view id = data->pMessageIdName ? data->pMessageIdName : "-";
+    const char* sev = severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT     ? "error"
+                      : severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT ? "warning"
+                                                                                    : "info";
+    std::string msg = fmt::format("[{}] {}: {}", sev, id, data->pMessage ? data->pMessage : "");
+    // Info and verbose messages are notes, not findings: the Khronos layer reports misuse at warning
+    // or error severity, and what it says at info is about its environment (its status line at
+    // instance creation, "cannot open shader validation cache" on a machine whose ~/.cache is new).
+    // A fresh machine must not fail a test that a warm one passes.
+    if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+        if (self->verbose_) fmt::print(stderr, "oas::vk validation note {}\n", msg);
+        std::lock_guard lock(self->logMutex_);
+        self->notes_.push_back(std::move(msg));
+        return VK_FALSE;
+    }
+    // Also printed, so applications that never inspect the log still show misuse.
+    fmt::print(stderr, "oas::vk validation {}\n", msg);
     std::lock_guard lock(self->logMutex_);
-    self->notes_.push_back(std::move(msg));
-    return VK_FALSE;
-  }
-  // Also printed, so applications that never inspect the log still show misuse.
-  fmt::print(stderr, "oas::vk validation {}\n", msg);
-  std::lock_guard lock(self->logMutex_);
-  self->log_.push_back(std::move(msg));
-  return VK_FALSE;  // never abort the call: we want the driver's behaviour, not the layer's
+    self->log_.push_back(std::move(msg));
+    return VK_FALSE;  // never abort the call: we want the driver's behaviour, not the layer's
 }
 
-Context::Context(const ContextOptions& opts) {
-  // The XDG base-directory spec says an empty or relative XDG_CACHE_HOME is to be ignored (use
-  // ~/.cache); Mesa 22.3 takes it literally, prints "Failed to create  for shader cache" and runs
-  // without its cache. Follow the spec for the driver, before it reads the variable.
-  if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache && cache[0] != '/') ::unsetenv("XDG_CACHE_HOME");
-  timeoutNs_ = static_cast<uint64_t>(std::max(opts.dispatchTimeoutSeconds, 0.0) * 1e9);
+Context::Context(const ContextOptions& opts)
+{
+    // The XDG base-directory spec says an empty or relative XDG_CACHE_HOME is to be ignored (use
+    // ~/.cache); Mesa 22.3 takes it literally, prints "Failed to create  for shader cache" and runs
+    // without its cache. Follow the spec for the driver, before it reads the variable.
+    if (const char* cache = std::getenv("XDG_CACHE_HOME"); cache && cache[0] != '/') ::unsetenv("XDG_CACHE_HOME");
+    timeoutNs_ = static_cast<uint64_t>(std::max(opts.dispatchTimeoutSeconds, 0.0) * 1e9);
 
-  uint32_t loaderApi = VK_API_VERSION_1_0;
-  OAS_VK_CHECK(vkEnumerateInstanceVersion(&loaderApi));
-  if (loaderApi < VK_API_VERSION_1_1)
-    throw NoDeviceError("Vulkan loader is " + apiString(loaderApi) + ", need 1.1");
-  // Asking for the newest the loader knows lets 1.2+ devices expose their driver properties.
-  const uint32_t api = std::min(loaderApi, VK_API_VERSION_1_3);
+    uint32_t loaderApi = VK_API_VERSION_1_0;
+    OAS_VK_CHECK(vkEnumerateInstanceVersion(&loaderApi));
+    if (loaderApi < VK_API_VERSION_1_1) throw NoDeviceError("Vulkan loader is " + apiString(loaderApi) + ", need 1.1");
+    // Asking for the newest the loader knows lets 1.2+ devices expose their driver properties.
+    const uint32_t api = std::min(loaderApi, VK_API_VERSION_1_3);
 
-  const bool wantValidation = opts.validation || opts.requireValidation || envFlag("OAS_VK_VALIDATION");
-  verbose_ = envFlag("OAS_VK_VERBOSE");
-  std::vector<const char*> layers, extensions;
-  bool haveValidationFeatures = false;
-  if (wantValidation) {
-    const auto props = enumerate<VkLayerProperties>("vkEnumerateInstanceLayerProperties",
-                                                    [](uint32_t* n, VkLayerProperties* p) {
-                                                      return vkEnumerateInstanceLayerProperties(n, p);
-                                                    });
-    const bool haveLayer = std::any_of(props.begin(), props.end(), [](const VkLayerProperties& l) {
-      return std::strcmp(l.layerName, kValidationLayer) == 0;
+    const bool wantValidation = opts.validation || opts.requireValidation || envFlag("OAS_VK_VALIDATION");
+    verbose_ = envFlag("OAS_VK_VERBOSE");
+    std::vector<const char*> layers, extensions;
+    bool haveValidationFeatures = false;
+    if (wantValidation) {
+        const auto props =
+            enumerate<VkLayerProperties>("vkEnumerateInstanceLayerProperties", [](uint32_t* n, VkLayerProperties* p) {
+                return vkEnumerateInstanceLayerProperties(n, p);
+            });
+        const bool haveLayer = std::any_of(props.begin(), props.end(), [](const VkLayerProperties& l) {
+            return std::strcmp(l.layerName, kValidationLayer) == 0;
+        });
+        bool haveDebugUtils = false;
+        if (haveLayer) {
+            auto exts = enumerate<VkExtensionProperties>(
+                "vkEnumerateInstanceExtensionProperties",
+                [](uint32_t* n, VkExtensionProperties* p) { return vkEnumerateInstanceExtensionProperties(nullptr, n, p); });
+            const auto layerExts = enumerate<VkExtensionProperties>(
+                "vkEnumerateInstanceExtensionProperties(layer)", [](uint32_t* n, VkExtensionProperties* p) {
+                    return vkEnumerateInstanceExtensionProperties(kValidationLayer, n, p);
+                });
+            exts.insert(exts.end(), layerExts.begin(), layerExts.end());
+            haveDebugUtils = hasExtension(exts, VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+            haveValidationFeatures = hasExtension(layerExts, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+        }
+        // Without the messenger nothing would be collected and "no messages" would prove nothing.
+        if (opts.requireValidation && !(haveLayer && haveDebugUtils))
+            throw VulkanError(haveLayer ? "validation required but VK_EXT_debug_utils is unavailable"
+                                        : "validation required but VK_LAYER_KHRONOS_validation is not installed "
+                                          "(Debian: apt install vulkan-validationlayers)");
+        if (haveLayer && haveDebugUtils) {
+            validation_ = true;
+            layers.push_back(kValidationLayer);
+            extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+            if (haveValidationFeatures) extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+        }
+    }
+
+    VkDebugUtilsMessengerCreateInfoEXT messengerInfo{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    messengerInfo.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT |
+                                    VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                                    VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    messengerInfo.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                                VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    messengerInfo.pfnUserCallback = &Context::onDebugMessage;
+    messengerInfo.pUserData = this;
+    // The layer's shader validation cache is a file in ~/.cache that parallel processes race to read
+    // and write, and that does not exist on a new machine. Validation is the same without it (it only
+    // skips re-validating SPIR-V seen before), so our runs neither depend on nor write the user's HOME.
+    const VkValidationFeatureDisableEXT disabled[] = {VK_VALIDATION_FEATURE_DISABLE_SHADER_VALIDATION_CACHE_EXT};
+    VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+    features.disabledValidationFeatureCount = 1;
+    features.pDisabledValidationFeatures = disabled;
+    features.pNext = &messengerInfo;  // instance creation only: the messenger's own create info takes no chain
+
+    for (const auto& e : opts.instanceExtensions)
+        if (std::none_of(extensions.begin(), extensions.end(), [&](const char* x) { return e == x; }))
+            extensions.push_back(e.c_str());
+
+    VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+    app.pApplicationName = "oas";
+    app.pEngineName = "oas";
+    app.apiVersion = api;
+    VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+    // The messenger also covers vkCreate/DestroyInstance.
+    ici.pNext = !validation_ ? nullptr : haveValidationFeatures ? static_cast<const void*>(&features) : &messengerInfo;
+    ici.pApplicationInfo = &app;
+    ici.enabledLayerCount = static_cast<uint32_t>(layers.size());
+    ici.ppEnabledLayerNames = layers.data();
+    ici.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+    ici.ppEnabledExtensionNames = extensions.data();
+    VkInstance inst = VK_NULL_HANDLE;
+    if (VkResult r = vkCreateInstance(&ici, nullptr, &inst); r != VK_SUCCESS) {
+        if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED)
+            throw NoDeviceError(fmt::format("vkCreateInstance failed: {} (no usable Vulkan driver)", resultName(r)), r);
+        throwVkError(r, "vkCreateInstance", __FILE__, __LINE__);
+    }
+    instance_ = detail::Owned<VkInstance>(inst, [](VkInstance i) { vkDestroyInstance(i, nullptr); });
+
+    if (validation_) {
+        auto create =
+            reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(inst, "vkCreateDebugUtilsMessengerEXT"));
+        auto destroy =
+            reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(vkGetInstanceProcAddr(inst, "vkDestroyDebugUtilsMessengerEXT"));
+        if (!create || !destroy) throw VulkanError("VK_EXT_debug_utils enabled but its entry points are missing");
+        VkDebugUtilsMessengerEXT m = VK_NULL_HANDLE;
+        OAS_VK_CHECK(create(inst, &messengerInfo, nullptr, &m));
+        messenger_ = detail::Owned<VkDebugUtilsMessengerEXT>(
+            m, [inst, destroy](VkDebugUtilsMessengerEXT h) { destroy(inst, h, nullptr); });
+    }
+
+    pickPhysicalDevice(opts, api);
+
+    const float priority = 1.0f;
+    VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+    qci.queueFamilyIndex = queueFamily_;
+    qci.queueCount = 1;
+    qci.pQueuePriorities = &priority;
+    VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+    dci.queueCreateInfoCount = 1;
+    dci.pQueueCreateInfos = &qci;
+    std::vector<const char*> deviceExtensions;
+    for (const auto& e : opts.deviceExtensions) deviceExtensions.push_back(e.c_str());
+    dci.enabledExtensionCount = static_cast<uint32_t>(deviceExtensions.size());
+    dci.ppEnabledExtensionNames = deviceExtensions.data();
+    VkDevice dev = VK_NULL_HANDLE;
+    if (VkResult r = vkCreateDevice(physical_, &dci, nullptr, &dev); r != VK_SUCCESS) {
+        if (r == VK_ERROR_INITIALIZATION_FAILED)
+            throw NoDeviceError(fmt::format("vkCreateDevice failed on {}: {}", deviceName_, resultName(r)), r);
+        throwVkError(r, "vkCreateDevice", __FILE__, __LINE__);
+    }
+    device_ = detail::Owned<VkDevice>(dev, [](VkDevice d) { vkDestroyDevice(d, nullptr); });
+    vkGetDeviceQueue(dev, queueFamily_, 0, &queue_);
+
+    VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pci.queueFamilyIndex = queueFamily_;
+    VkCommandPool pool = VK_NULL_HANDLE;
+    OAS_VK_CHECK(vkCreateCommandPool(dev, &pci, nullptr, &pool));
+    cmdPool_ = detail::Owned<VkCommandPool>(pool, [dev](VkCommandPool p) { vkDestroyCommandPool(dev, p, nullptr); });
+    VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    cai.commandPool = pool;
+    cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    cai.commandBufferCount = 1;
+    OAS_VK_CHECK(vkAllocateCommandBuffers(dev, &cai, &cmd_));
+
+    VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    VkFence fence = VK_NULL_HANDLE;
+    OAS_VK_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
+    fence_ = detail::Owned<VkFence>(fence, [dev](VkFence f) { vkDestroyFence(dev, f, nullptr); });
+}
+
+void Context::pickPhysicalDevice(const ContextOptions& opts, uint32_t instanceApi)
+{
+    const std::string& prefer = opts.preferDevice;
+    const VkInstance inst = instance_.get();
+    const auto devices = enumerate<VkPhysicalDevice>("vkEnumeratePhysicalDevices", [inst](uint32_t* n, VkPhysicalDevice* p) {
+        return vkEnumeratePhysicalDevices(inst, n, p);
     });
-    bool haveDebugUtils = false;
-    if (haveLayer) {
-      auto exts = enumerate<VkExtensionProperties>("vkEnumerateInstanceExtensionProperties",
-          [](uint32_t* n, VkExtensionProperties* p) { return vkEnumerateInstanceExtensionProperties(nullptr, n, p); });
-      const auto layerExts = enumerate<VkExtensionProperties>("vkEnumerateInstanceExtensionProperties(layer)",
-          [](uint32_t* n, VkExtensionProperties* p) { return vkEnumerateInstanceExtensionProperties(kValidationLayer, n, p); });
-      exts.insert(exts.end(), layerExts.begin(), layerExts.end());
-      haveDebugUtils = hasExtension(exts, VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-      haveValidationFeatures = hasExtension(layerExts, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+    int bestScore = -1;
+    std::string seen;
+    for (VkPhysicalDevice pd : devices) {
+        VkPhysicalDeviceProperties props;
+        vkGetPhysicalDeviceProperties(pd, &props);
+        seen += fmt::format(" '{}' (Vulkan {})", props.deviceName, apiString(props.apiVersion));
+        // Our SPIR-V targets vulkan1.1 (SPIR-V 1.3), which a 1.0 device cannot run.
+        if (props.apiVersion < VK_API_VERSION_1_1) continue;
+        uint32_t nq = 0;
+        vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, nullptr);
+        std::vector<VkQueueFamilyProperties> families(nq);
+        vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, families.data());
+        auto fam = families.begin();
+        for (; fam != families.end(); ++fam) {
+            const uint32_t index = static_cast<uint32_t>(fam - families.begin());
+            if ((fam->queueFlags & VK_QUEUE_COMPUTE_BIT) && fam->queueCount > 0 &&
+                (!opts.canPresent || opts.canPresent(inst, pd, index)))
+                break;
+        }
+        if (fam == families.end()) continue;
+        if (!opts.deviceExtensions.empty()) {
+            const auto exts = enumerate<VkExtensionProperties>(
+                "vkEnumerateDeviceExtensionProperties",
+                [pd](uint32_t* n, VkExtensionProperties* p) { return vkEnumerateDeviceExtensionProperties(pd, nullptr, n, p); });
+            if (!std::all_of(opts.deviceExtensions.begin(), opts.deviceExtensions.end(),
+                             [&](const std::string& e) { return hasExtension(exts, e.c_str()); }))
+                continue;
+        }
+        const bool named = !prefer.empty() && std::string_view(props.deviceName).find(prefer) != std::string_view::npos;
+        const int score = typeRank(props.deviceType) + (named ? 100 : 0);
+        if (score <= bestScore) continue;  // ties keep enumeration order, which is stable per machine
+        bestScore = score;
+        physical_ = pd;
+        queueFamily_ = static_cast<uint32_t>(fam - families.begin());
     }
-    // Without the messenger nothing would be collected and "no messages" would prove nothing.
-    if (opts.requireValidation && !(haveLayer && haveDebugUtils))
-      throw VulkanError(haveLayer ? "validation required but VK_EXT_debug_utils is unavailable"
-                                  : "validation required but VK_LAYER_KHRONOS_validation is not installed "
-                                    "(Debian: apt install vulkan-validationlayers)");
-    if (haveLayer && haveDebugUtils) {
-      validation_ = true;
-      layers.push_back(kValidationLayer);
-      extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
-      if (haveValidationFeatures) extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
-    }
-  }
+    if (physical_ == VK_NULL_HANDLE)
+        throw NoDeviceError(
+            devices.empty() ? std::string("no Vulkan physical devices")
+                            : std::string(opts.canPresent ? "no Vulkan 1.1 device with a queue that computes and presents among:"
+                                                          : "no Vulkan 1.1 device with a compute queue among:") +
+                                  seen);
 
-  VkDebugUtilsMessengerCreateInfoEXT messengerInfo{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-  messengerInfo.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_INFO_BIT_EXT |
-                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                                  VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-  messengerInfo.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
-                              VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
-                              VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
-  messengerInfo.pfnUserCallback = &Context::onDebugMessage;
-  messengerInfo.pUserData = this;
-  // The layer's shader validation cache is a file in ~/.cache that parallel processes race to read
-  // and write, and that does not exist on a new machine. Validation is the same without it (it only
-  // skips re-validating SPIR-V seen before), so our runs neither depend on nor write the user's HOME.
-  const VkValidationFeatureDisableEXT disabled[] = {VK_VALIDATION_FEATURE_DISABLE_SHADER_VALIDATION_CACHE_EXT};
-  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
-  features.disabledValidationFeatureCount = 1;
-  features.pDisabledValidationFeatures = disabled;
-  features.pNext = &messengerInfo;  // instance creation only: the messenger's own create info takes no chain
-
-  for (const auto& e : opts.instanceExtensions)
-    if (std::none_of(extensions.begin(), extensions.end(), [&](const char* x) { return e == x; }))
-      extensions.push_back(e.c_str());
-
-  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
-  app.pApplicationName = "oas";
-  app.pEngineName = "oas";
-  app.apiVersion = api;
-  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  // The messenger also covers vkCreate/DestroyInstance.
-  ici.pNext = !validation_ ? nullptr : haveValidationFeatures ? static_cast<const void*>(&features) : &messengerInfo;
-  ici.pApplicationInfo = &app;
-  ici.enabledLayerCount = static_cast<uint32_t>(layers.size());
-  ici.ppEnabledLayerNames = layers.data();
-  ici.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
-  ici.ppEnabledExtensionNames = extensions.data();
-  VkInstance inst = VK_NULL_HANDLE;
-  if (VkResult r = vkCreateInstance(&ici, nullptr, &inst); r != VK_SUCCESS) {
-    if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED)
-      throw NoDeviceError(fmt::format("vkCreateInstance failed: {} (no usable Vulkan driver)", resultName(r)), r);
-    throwVkError(r, "vkCreateInstance", __FILE__, __LINE__);
-  }
-  instance_ = detail::Owned<VkInstance>(inst, [](VkInstance i) { vkDestroyInstance(i, nullptr); });
-
-  if (validation_) {
-    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(inst, "vkCreateDebugUtilsMessengerEXT"));
-    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(inst, "vkDestroyDebugUtilsMessengerEXT"));
-    if (!create || !destroy) throw VulkanError("VK_EXT_debug_utils enabled but its entry points are missing");
-    VkDebugUtilsMessengerEXT m = VK_NULL_HANDLE;
-    OAS_VK_CHECK(create(inst, &messengerInfo, nullptr, &m));
-    messenger_ = detail::Owned<VkDebugUtilsMessengerEXT>(
-        m, [inst, destroy](VkDebugUtilsMessengerEXT h) { destroy(inst, h, nullptr); });
-  }
-
-  pickPhysicalDevice(opts, api);
-
-  const float priority = 1.0f;
-  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  qci.queueFamilyIndex = queueFamily_;
-  qci.queueCount = 1;
-  qci.pQueuePriorities = &priority;
-  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-  dci.queueCreateInfoCount = 1;
-  dci.pQueueCreateInfos = &qci;
-  std::vector<const char*> deviceExtensions;
-  for (const auto& e : opts.deviceExtensions) deviceExtensions.push_back(e.c_str());
-  dci.enabledExtensionCount = static_cast<uint32_t>(deviceExtensions.size());
-  dci.ppEnabledExtensionNames = deviceExtensions.data();
-  VkDevice dev = VK_NULL_HANDLE;
-  if (VkResult r = vkCreateDevice(physical_, &dci, nullptr, &dev); r != VK_SUCCESS) {
-    if (r == VK_ERROR_INITIALIZATION_FAILED)
-      throw NoDeviceError(fmt::format("vkCreateDevice failed on {}: {}", deviceName_, resultName(r)), r);
-    throwVkError(r, "vkCreateDevice", __FILE__, __LINE__);
-  }
-  device_ = detail::Owned<VkDevice>(dev, [](VkDevice d) { vkDestroyDevice(d, nullptr); });
-  vkGetDeviceQueue(dev, queueFamily_, 0, &queue_);
-
-  VkCommandPoolCreateInfo pci{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
-  pci.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  pci.queueFamilyIndex = queueFamily_;
-  VkCommandPool pool = VK_NULL_HANDLE;
-  OAS_VK_CHECK(vkCreateCommandPool(dev, &pci, nullptr, &pool));
-  cmdPool_ = detail::Owned<VkCommandPool>(pool, [dev](VkCommandPool p) { vkDestroyCommandPool(dev, p, nullptr); });
-  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  cai.commandPool = pool;
-  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cai.commandBufferCount = 1;
-  OAS_VK_CHECK(vkAllocateCommandBuffers(dev, &cai, &cmd_));
-
-  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
-  VkFence fence = VK_NULL_HANDLE;
-  OAS_VK_CHECK(vkCreateFence(dev, &fci, nullptr, &fence));
-  fence_ = detail::Owned<VkFence>(fence, [dev](VkFence f) { vkDestroyFence(dev, f, nullptr); });
-}
-
-void Context::pickPhysicalDevice(const ContextOptions& opts, uint32_t instanceApi) {
-  const std::string& prefer = opts.preferDevice;
-  const VkInstance inst = instance_.get();
-  const auto devices = enumerate<VkPhysicalDevice>(
-      "vkEnumeratePhysicalDevices", [inst](uint32_t* n, VkPhysicalDevice* p) { return vkEnumeratePhysicalDevices(inst, n, p); });
-  int bestScore = -1;
-  std::string seen;
-  for (VkPhysicalDevice pd : devices) {
     VkPhysicalDeviceProperties props;
-    vkGetPhysicalDeviceProperties(pd, &props);
-    seen += fmt::format(" '{}' (Vulkan {})", props.deviceName, apiString(props.apiVersion));
-    // Our SPIR-V targets vulkan1.1 (SPIR-V 1.3), which a 1.0 device cannot run.
-    if (props.apiVersion < VK_API_VERSION_1_1) continue;
-    uint32_t nq = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, nullptr);
-    std::vector<VkQueueFamilyProperties> families(nq);
-    vkGetPhysicalDeviceQueueFamilyProperties(pd, &nq, families.data());
-    auto fam = families.begin();
-    for (; fam != families.end(); ++fam) {
-      const uint32_t index = static_cast<uint32_t>(fam - families.begin());
-      if ((fam->queueFlags & VK_QUEUE_COMPUTE_BIT) && fam->queueCount > 0 &&
-          (!opts.canPresent || opts.canPresent(inst, pd, index)))
-        break;
+    vkGetPhysicalDeviceProperties(physical_, &props);
+    deviceName_ = props.deviceName;
+    limits_ = props.limits;
+    vkGetPhysicalDeviceMemoryProperties(physical_, &memProps_);
+
+    // Driver properties are core only from 1.2, and the instance version caps what we may query.
+    VkDriverId driverId{};
+    if (std::min(props.apiVersion, instanceApi) >= VK_API_VERSION_1_2) {
+        VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+        VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+        p2.pNext = &drv;
+        vkGetPhysicalDeviceProperties2(physical_, &p2);
+        driverName_ = drv.driverName;
+        driverId = drv.driverID;
     }
-    if (fam == families.end()) continue;
-    if (!opts.deviceExtensions.empty()) {
-      const auto exts = enumerate<VkExtensionProperties>("vkEnumerateDeviceExtensionProperties",
-          [pd](uint32_t* n, VkExtensionProperties* p) { return vkEnumerateDeviceExtensionProperties(pd, nullptr, n, p); });
-      if (!std::all_of(opts.deviceExtensions.begin(), opts.deviceExtensions.end(),
-                       [&](const std::string& e) { return hasExtension(exts, e.c_str()); }))
-        continue;
+    isLavapipe_ = driverId == VK_DRIVER_ID_MESA_LLVMPIPE || deviceName_.find("llvmpipe") != std::string::npos;
+}
+
+Context::~Context()
+{
+    if (broken_) {
+        // Waiting could block forever on a hung kernel; leaking is the only safe way out.
+        fence_.leak(), cmdPool_.leak(), device_.leak(), messenger_.leak(), instance_.leak();
+        return;
     }
-    const bool named = !prefer.empty() && std::string_view(props.deviceName).find(prefer) != std::string_view::npos;
-    const int score = typeRank(props.deviceType) + (named ? 100 : 0);
-    if (score <= bestScore) continue;  // ties keep enumeration order, which is stable per machine
-    bestScore = score;
-    physical_ = pd;
-    queueFamily_ = static_cast<uint32_t>(fam - families.begin());
-  }
-  if (physical_ == VK_NULL_HANDLE)
-    throw NoDeviceError(devices.empty() ? std::string("no Vulkan physical devices")
-                                        : std::string(opts.canPresent ? "no Vulkan 1.1 device with a queue that computes and presents among:"
-                                                                      : "no Vulkan 1.1 device with a compute queue among:") + seen);
-
-  VkPhysicalDeviceProperties props;
-  vkGetPhysicalDeviceProperties(physical_, &props);
-  deviceName_ = props.deviceName;
-  limits_ = props.limits;
-  vkGetPhysicalDeviceMemoryProperties(physical_, &memProps_);
-
-  // Driver properties are core only from 1.2, and the instance version caps what we may query.
-  VkDriverId driverId{};
-  if (std::min(props.apiVersion, instanceApi) >= VK_API_VERSION_1_2) {
-    VkPhysicalDeviceDriverProperties drv{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
-    VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
-    p2.pNext = &drv;
-    vkGetPhysicalDeviceProperties2(physical_, &p2);
-    driverName_ = drv.driverName;
-    driverId = drv.driverID;
-  }
-  isLavapipe_ = driverId == VK_DRIVER_ID_MESA_LLVMPIPE || deviceName_.find("llvmpipe") != std::string::npos;
+    // Destroying objects the GPU may still use is undefined; the owned handles then go in reverse
+    // declaration order (fence, pool, device, messenger, instance).
+    if (device_.get() != VK_NULL_HANDLE) vkDeviceWaitIdle(device_.get());
 }
 
-Context::~Context() {
-  if (broken_) {
-    // Waiting could block forever on a hung kernel; leaking is the only safe way out.
-    fence_.leak(), cmdPool_.leak(), device_.leak(), messenger_.leak(), instance_.leak();
-    return;
-  }
-  // Destroying objects the GPU may still use is undefined; the owned handles then go in reverse
-  // declaration order (fence, pool, device, messenger, instance).
-  if (device_.get() != VK_NULL_HANDLE) vkDeviceWaitIdle(device_.get());
+std::vector<std::string> Context::validationMessages() const
+{
+    std::lock_guard lock(logMutex_);
+    return log_;
 }
 
-std::vector<std::string> Context::validationMessages() const {
-  std::lock_guard lock(logMutex_);
-  return log_;
+std::vector<std::string> Context::validationNotes() const
+{
+    std::lock_guard lock(logMutex_);
+    return notes_;
 }
 
-std::vector<std::string> Context::validationNotes() const {
-  std::lock_guard lock(logMutex_);
-  return notes_;
+void Context::clearValidationMessages()
+{
+    std::lock_guard lock(logMutex_);
+    log_.clear();
+    notes_.clear();
 }
 
-void Context::clearValidationMessages() {
-  std::lock_guard lock(logMutex_);
-  log_.clear();
-  notes_.clear();
+void throwIfValidationMessages(const Context& ctx)
+{
+    const auto msgs = ctx.validationMessages();
+    if (msgs.empty()) return;
+    std::string text = fmt::format("{} Vulkan validation message(s):", msgs.size());
+    for (const auto& m : msgs) text += "\n  " + m;
+    throw VulkanError(text);
 }
 
-void throwIfValidationMessages(const Context& ctx) {
-  const auto msgs = ctx.validationMessages();
-  if (msgs.empty()) return;
-  std::string text = fmt::format("{} Vulkan validation message(s):", msgs.size());
-  for (const auto& m : msgs) text += "\n  " + m;
-  throw VulkanError(text);
-}
+void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData, uint32_t pushBytes,
+                       uint32_t gx, uint32_t gy, uint32_t gz)
+{
+    if (broken_) throw VulkanError("Context unusable: an earlier dispatch timed out or lost the device");
+    if (buffers.size() != pipe.bindingCount_)
+        throw std::invalid_argument(
+            fmt::format("dispatch: pipeline has {} bindings, got {} buffers", pipe.bindingCount_, buffers.size()));
+    // A partial push leaves the rest of the block undefined, a silent source of wrong results.
+    if (pushBytes != pipe.pushBytes_ || (pushBytes && !pushData))
+        throw std::invalid_argument(
+            fmt::format("dispatch: pipeline expects {} push-constant bytes, got {}", pipe.pushBytes_, pushBytes));
+    const uint32_t g[3] = {gx, gy, gz};
+    for (int i = 0; i < 3; ++i)
+        if (g[i] > limits_.maxComputeWorkGroupCount[i])
+            throw std::invalid_argument(fmt::format("dispatch: group count {} exceeds device limit {} on axis {}", g[i],
+                                                    limits_.maxComputeWorkGroupCount[i], i));
+    const VkDevice dev = device_.get();
 
-void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData,
-                       uint32_t pushBytes, uint32_t gx, uint32_t gy, uint32_t gz) {
-  if (broken_) throw VulkanError("Context unusable: an earlier dispatch timed out or lost the device");
-  if (buffers.size() != pipe.bindingCount_)
-    throw std::invalid_argument(fmt::format("dispatch: pipeline has {} bindings, got {} buffers",
-                                            pipe.bindingCount_, buffers.size()));
-  // A partial push leaves the rest of the block undefined, a silent source of wrong results.
-  if (pushBytes != pipe.pushBytes_ || (pushBytes && !pushData))
-    throw std::invalid_argument(fmt::format("dispatch: pipeline expects {} push-constant bytes, got {}",
-                                            pipe.pushBytes_, pushBytes));
-  const uint32_t g[3] = {gx, gy, gz};
-  for (int i = 0; i < 3; ++i)
-    if (g[i] > limits_.maxComputeWorkGroupCount[i])
-      throw std::invalid_argument(fmt::format("dispatch: group count {} exceeds device limit {} on axis {}",
-                                              g[i], limits_.maxComputeWorkGroupCount[i], i));
-  const VkDevice dev = device_.get();
-
-  VkDescriptorSet set = VK_NULL_HANDLE;
-  if (pipe.bindingCount_ > 0) {
-    OAS_VK_CHECK(vkResetDescriptorPool(dev, pipe.pool_.get(), 0));
-    VkDescriptorSetLayout layout = pipe.setLayout_.get();
-    VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    dai.descriptorPool = pipe.pool_.get();
-    dai.descriptorSetCount = 1;
-    dai.pSetLayouts = &layout;
-    OAS_VK_CHECK(vkAllocateDescriptorSets(dev, &dai, &set));
-    std::vector<VkDescriptorBufferInfo> infos(buffers.size());
-    std::vector<VkWriteDescriptorSet> writes(buffers.size());
-    for (size_t i = 0; i < buffers.size(); ++i) {
-      if (!buffers[i]) throw std::invalid_argument(fmt::format("dispatch: buffer {} is null", i));
-      if (buffers[i]->size() > limits_.maxStorageBufferRange)
-        throw std::invalid_argument(fmt::format("dispatch: buffer {} is {} bytes, above maxStorageBufferRange {}",
-                                                i, buffers[i]->size(), limits_.maxStorageBufferRange));
-      infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-      writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-      writes[i].dstSet = set;
-      writes[i].dstBinding = static_cast<uint32_t>(i);
-      writes[i].descriptorCount = 1;
-      writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-      writes[i].pBufferInfo = &infos[i];
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    if (pipe.bindingCount_ > 0) {
+        OAS_VK_CHECK(vkResetDescriptorPool(dev, pipe.pool_.get(), 0));
+        VkDescriptorSetLayout layout = pipe.setLayout_.get();
+        VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+        dai.descriptorPool = pipe.pool_.get();
+        dai.descriptorSetCount = 1;
+        dai.pSetLayouts = &layout;
+        OAS_VK_CHECK(vkAllocateDescriptorSets(dev, &dai, &set));
+        std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+        std::vector<VkWriteDescriptorSet> writes(buffers.size());
+        for (size_t i = 0; i < buffers.size(); ++i) {
+            if (!buffers[i]) throw std::invalid_argument(fmt::format("dispatch: buffer {} is null", i));
+            if (buffers[i]->size() > limits_.maxStorageBufferRange)
+                throw std::invalid_argument(fmt::format("dispatch: buffer {} is {} bytes, above maxStorageBufferRange {}", i,
+                                                        buffers[i]->size(), limits_.maxStorageBufferRange));
+            infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+            writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+            writes[i].dstSet = set;
+            writes[i].dstBinding = static_cast<uint32_t>(i);
+            writes[i].descriptorCount = 1;
+            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+            writes[i].pBufferInfo = &infos[i];
+        }
+        vkUpdateDescriptorSets(dev, static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
     }
-    vkUpdateDescriptorSets(dev, static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
-  }
 
-  OAS_VK_CHECK(vkResetCommandBuffer(cmd_, 0));
-  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-  OAS_VK_CHECK(vkBeginCommandBuffer(cmd_, &begin));
-  vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipe.pipeline_.get());
-  if (set != VK_NULL_HANDLE)
-    vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipe.layout_.get(), 0, 1, &set, 0, nullptr);
-  if (pushBytes > 0)
-    vkCmdPushConstants(cmd_, pipe.layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, pushData);
-  vkCmdDispatch(cmd_, gx, gy, gz);
-  // Host writes before submit are made visible by the submission itself; the way back needs an
-  // explicit barrier, or the mapped pointer may show stale data even after the fence.
-  VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-  toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-  toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-  vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost,
-                       0, nullptr, 0, nullptr);
-  OAS_VK_CHECK(vkEndCommandBuffer(cmd_));
+    OAS_VK_CHECK(vkResetCommandBuffer(cmd_, 0));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    OAS_VK_CHECK(vkBeginCommandBuffer(cmd_, &begin));
+    vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipe.pipeline_.get());
+    if (set != VK_NULL_HANDLE)
+        vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipe.layout_.get(), 0, 1, &set, 0, nullptr);
+    if (pushBytes > 0) vkCmdPushConstants(cmd_, pipe.layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, pushData);
+    vkCmdDispatch(cmd_, gx, gy, gz);
+    // Host writes before submit are made visible by the submission itself; the way back needs an
+    // explicit barrier, or the mapped pointer may show stale data even after the fence.
+    VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
+    vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
+                         nullptr);
+    OAS_VK_CHECK(vkEndCommandBuffer(cmd_));
 
-  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-  submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &cmd_;
-  VkFence fence = fence_.get();
-  VkResult r = vkQueueSubmit(queue_, 1, &submit, fence);
-  if (r == VK_SUCCESS) r = vkWaitForFences(dev, 1, &fence, VK_TRUE, timeoutNs_);
-  if (r != VK_SUCCESS) {
-    broken_ = true;  // the command buffer may still be pending, so nothing may be reused or freed
-    if (r == VK_TIMEOUT)
-      throw VulkanError(fmt::format("dispatch ({}x{}x{} groups) did not finish within {:g} s on {}", gx, gy, gz,
-                                    timeoutNs_ / 1e9, deviceName_), r);
-    throwVkError(r, "vkQueueSubmit/vkWaitForFences", __FILE__, __LINE__);
-  }
-  OAS_VK_CHECK(vkResetFences(dev, 1, &fence));
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd_;
+    VkFence fence = fence_.get();
+    VkResult r = vkQueueSubmit(queue_, 1, &submit, fence);
+    if (r == VK_SUCCESS) r = vkWaitForFences(dev, 1, &fence, VK_TRUE, timeoutNs_);
+    if (r != VK_SUCCESS) {
+        broken_ = true;  // the command buffer may still be pending, so nothing may be reused or freed
+        if (r == VK_TIMEOUT)
+            throw VulkanError(fmt::format("dispatch ({}x{}x{} groups) did not finish within {:g} s on {}", gx, gy, gz,
+                                          timeoutNs_ / 1e9, deviceName_),
+                              r);
+        throwVkError(r, "vkQueueSubmit/vkWaitForFences", __FILE__, __LINE__);
+    }
+    OAS_VK_CHECK(vkResetFences(dev, 1, &fence));
 }
 
 // ---------------------------------------------------------------- Buffer
 
-Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes) {
-  if (bytes == 0) throw std::invalid_argument("Buffer: size must be > 0");
-  const VkDevice dev = ctx.device();
-  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
-  bci.size = bytes;
-  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-  bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-  VkBuffer buf = VK_NULL_HANDLE;
-  OAS_VK_CHECK(vkCreateBuffer(dev, &bci, nullptr, &buf));
-  buffer_ = detail::Owned<VkBuffer>(buf, [dev](VkBuffer b) { vkDestroyBuffer(dev, b, nullptr); });
-  VkMemoryRequirements req;
-  vkGetBufferMemoryRequirements(dev, buf, &req);
+Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes)
+{
+    if (bytes == 0) throw std::invalid_argument("Buffer: size must be > 0");
+    const VkDevice dev = ctx.device();
+    VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    bci.size = bytes;
+    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    VkBuffer buf = VK_NULL_HANDLE;
+    OAS_VK_CHECK(vkCreateBuffer(dev, &bci, nullptr, &buf));
+    buffer_ = detail::Owned<VkBuffer>(buf, [dev](VkBuffer b) { vkDestroyBuffer(dev, b, nullptr); });
+    VkMemoryRequirements req;
+    vkGetBufferMemoryRequirements(dev, buf, &req);
 
-  // Host-visible device-local memory (unified memory, lavapipe, ReBAR) avoids staging copies; on
-  // a discrete GPU it is a small BAR window, so fall back to plain host memory when it is full.
-  const auto& mp = ctx.memoryProperties();
-  const VkMemoryPropertyFlags need = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  std::vector<uint32_t> candidates;
-  for (int pass = 0; pass < 2; ++pass)
-    for (uint32_t i = 0; i < mp.memoryTypeCount; ++i) {
-      const auto flags = mp.memoryTypes[i].propertyFlags;
-      const bool local = flags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-      if ((req.memoryTypeBits & (1u << i)) && (flags & need) == need && local == (pass == 0) &&
-          mp.memoryHeaps[mp.memoryTypes[i].heapIndex].size >= req.size)
-        candidates.push_back(i);
+    // Host-visible device-local memory (unified memory, lavapipe, ReBAR) avoids staging copies; on
+    // a discrete GPU it is a small BAR window, so fall back to plain host memory when it is full.
+    const auto& mp = ctx.memoryProperties();
+    const VkMemoryPropertyFlags need = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    std::vector<uint32_t> candidates;
+    for (int pass = 0; pass < 2; ++pass)
+        for (uint32_t i = 0; i < mp.memoryTypeCount; ++i) {
+            const auto flags = mp.memoryTypes[i].propertyFlags;
+            const bool local = flags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+            if ((req.memoryTypeBits & (1u << i)) && (flags & need) == need && local == (pass == 0) &&
+                mp.memoryHeaps[mp.memoryTypes[i].heapIndex].size >= req.size)
+                candidates.push_back(i);
+        }
+    if (candidates.empty()) throw VulkanError("Buffer: no HOST_VISIBLE|HOST_COHERENT memory type fits");
+
+    VkResult last = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+    for (uint32_t type : candidates) {
+        VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+        mai.allocationSize = req.size;
+        mai.memoryTypeIndex = type;
+        VkDeviceMemory mem = VK_NULL_HANDLE;
+        last = vkAllocateMemory(dev, &mai, nullptr, &mem);
+        if (last == VK_ERROR_OUT_OF_DEVICE_MEMORY || last == VK_ERROR_OUT_OF_HOST_MEMORY) continue;
+        if (last != VK_SUCCESS) throwVkError(last, "vkAllocateMemory", __FILE__, __LINE__);
+        memory_ = detail::Owned<VkDeviceMemory>(mem, [dev](VkDeviceMemory m) { vkFreeMemory(dev, m, nullptr); });
+        deviceLocal_ = mp.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+        break;
     }
-  if (candidates.empty()) throw VulkanError("Buffer: no HOST_VISIBLE|HOST_COHERENT memory type fits");
-
-  VkResult last = VK_ERROR_OUT_OF_DEVICE_MEMORY;
-  for (uint32_t type : candidates) {
-    VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    mai.allocationSize = req.size;
-    mai.memoryTypeIndex = type;
-    VkDeviceMemory mem = VK_NULL_HANDLE;
-    last = vkAllocateMemory(dev, &mai, nullptr, &mem);
-    if (last == VK_ERROR_OUT_OF_DEVICE_MEMORY || last == VK_ERROR_OUT_OF_HOST_MEMORY) continue;
-    if (last != VK_SUCCESS) throwVkError(last, "vkAllocateMemory", __FILE__, __LINE__);
-    memory_ = detail::Owned<VkDeviceMemory>(mem, [dev](VkDeviceMemory m) { vkFreeMemory(dev, m, nullptr); });
-    deviceLocal_ = mp.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-    break;
-  }
-  if (memory_.get() == VK_NULL_HANDLE)
-    throw VulkanError(fmt::format("Buffer: allocating {} bytes failed: {}", bytes, resultName(last)), last);
-  OAS_VK_CHECK(vkBindBufferMemory(dev, buf, memory_.get(), 0));
-  OAS_VK_CHECK(vkMapMemory(dev, memory_.get(), 0, VK_WHOLE_SIZE, 0, &mapped_));  // unmapped by vkFreeMemory
-  std::memset(mapped_, 0, bytes);  // deterministic contents; freshly allocated memory is arbitrary
+    if (memory_.get() == VK_NULL_HANDLE)
+        throw VulkanError(fmt::format("Buffer: allocating {} bytes failed: {}", bytes, resultName(last)), last);
+    OAS_VK_CHECK(vkBindBufferMemory(dev, buf, memory_.get(), 0));
+    OAS_VK_CHECK(vkMapMemory(dev, memory_.get(), 0, VK_WHOLE_SIZE, 0, &mapped_));  // unmapped by vkFreeMemory
+    std::memset(mapped_, 0, bytes);  // deterministic contents; freshly allocated memory is arbitrary
 }
 
 Buffer::Buffer(Buffer&& o) noexcept
-    : ctx_(o.ctx_),
-      size_(std::exchange(o.size_, 0)),
-      mapped_(std::exchange(o.mapped_, nullptr)),
-      deviceLocal_(o.deviceLocal_),
-      memory_(std::move(o.memory_)),
-      buffer_(std::move(o.buffer_)) {}
+    : ctx_(o.ctx_), size_(std::exchange(o.size_, 0)), mapped_(std::exchange(o.mapped_, nullptr)), deviceLocal_(o.deviceLocal_),
+      memory_(std::move(o.memory_)), buffer_(std::move(o.buffer_))
+{
+}
 
-Buffer::~Buffer() {
-  if (ctx_->broken()) buffer_.leak(), memory_.leak();
+Buffer::~Buffer()
+{
+    if (ctx_->broken()) buffer_.leak(), memory_.leak();
 }
 
 // ---------------------------------------------------------------- ComputePipeline
 
 ComputePipeline::ComputePipeline(Context& ctx, const uint32_t* code, size_t byteSize, uint32_t bindingCount,
                                  uint32_t pushConstantBytes, const SpecConstants& specConstants)
-    : ctx_(&ctx), bindingCount_(bindingCount), pushBytes_(pushConstantBytes) {
-  if (!code || byteSize == 0 || byteSize % 4 != 0)
-    throw std::invalid_argument("ComputePipeline: SPIR-V must be a non-empty multiple of 4 bytes");
-  if (pushConstantBytes % 4 != 0 || pushConstantBytes > ctx.limits().maxPushConstantsSize)
-    throw std::invalid_argument(fmt::format("ComputePipeline: {} push-constant bytes (must be a multiple of 4, "
-                                            "at most {})", pushConstantBytes, ctx.limits().maxPushConstantsSize));
-  const VkDevice dev = ctx.device();
+    : ctx_(&ctx), bindingCount_(bindingCount), pushBytes_(pushConstantBytes)
+{
+    if (!code || byteSize == 0 || byteSize % 4 != 0)
+        throw std::invalid_argument("ComputePipeline: SPIR-V must be a non-empty multiple of 4 bytes");
+    if (pushConstantBytes % 4 != 0 || pushConstantBytes > ctx.limits().maxPushConstantsSize)
+        throw std::invalid_argument(fmt::format("ComputePipeline: {} push-constant bytes (must be a multiple of 4, "
+                                                "at most {})",
+                                                pushConstantBytes, ctx.limits().maxPushConstantsSize));
+    const VkDevice dev = ctx.device();
 
-  VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-  smci.codeSize = byteSize;
-  smci.pCode = code;
-  VkShaderModule sm = VK_NULL_HANDLE;
-  OAS_VK_CHECK(vkCreateShaderModule(dev, &smci, nullptr, &sm));
-  // Only needed until the pipeline exists.
-  detail::Owned<VkShaderModule> module(sm, [dev](VkShaderModule m) { vkDestroyShaderModule(dev, m, nullptr); });
+    VkShaderModuleCreateInfo smci{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    smci.codeSize = byteSize;
+    smci.pCode = code;
+    VkShaderModule sm = VK_NULL_HANDLE;
+    OAS_VK_CHECK(vkCreateShaderModule(dev, &smci, nullptr, &sm));
+    // Only needed until the pipeline exists.
+    detail::Owned<VkShaderModule> module(sm, [dev](VkShaderModule m) { vkDestroyShaderModule(dev, m, nullptr); });
 
-  std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
-  for (uint32_t i = 0; i < bindingCount; ++i)
-    bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
-  VkDescriptorSetLayoutCreateInfo dlci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  dlci.bindingCount = bindingCount;
-  dlci.pBindings = bindings.data();
-  VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
-  OAS_VK_CHECK(vkCreateDescriptorSetLayout(dev, &dlci, nullptr, &dsl));
-  setLayout_ = detail::Owned<VkDescriptorSetLayout>(
-      dsl, [dev](VkDescriptorSetLayout l) { vkDestroyDescriptorSetLayout(dev, l, nullptr); });
+    std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
+    for (uint32_t i = 0; i < bindingCount; ++i)
+        bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    VkDescriptorSetLayoutCreateInfo dlci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    dlci.bindingCount = bindingCount;
+    dlci.pBindings = bindings.data();
+    VkDescriptorSetLayout dsl = VK_NULL_HANDLE;
+    OAS_VK_CHECK(vkCreateDescriptorSetLayout(dev, &dlci, nullptr, &dsl));
+    setLayout_ = detail::Owned<VkDescriptorSetLayout>(
+        dsl, [dev](VkDescriptorSetLayout l) { vkDestroyDescriptorSetLayout(dev, l, nullptr); });
 
-  const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
-  VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  plci.setLayoutCount = bindingCount > 0 ? 1 : 0;
-  plci.pSetLayouts = &dsl;
-  plci.pushConstantRangeCount = pushConstantBytes > 0 ? 1 : 0;
-  plci.pPushConstantRanges = &range;
-  VkPipelineLayout pl = VK_NULL_HANDLE;
-  OAS_VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &pl));
-  layout_ = detail::Owned<VkPipelineLayout>(pl, [dev](VkPipelineLayout l) { vkDestroyPipelineLayout(dev, l, nullptr); });
+    const VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushConstantBytes};
+    VkPipelineLayoutCreateInfo plci{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    plci.setLayoutCount = bindingCount > 0 ? 1 : 0;
+    plci.pSetLayouts = &dsl;
+    plci.pushConstantRangeCount = pushConstantBytes > 0 ? 1 : 0;
+    plci.pPushConstantRanges = &range;
+    VkPipelineLayout pl = VK_NULL_HANDLE;
+    OAS_VK_CHECK(vkCreatePipelineLayout(dev, &plci, nullptr, &pl));
+    layout_ = detail::Owned<VkPipelineLayout>(pl, [dev](VkPipelineLayout l) { vkDestroyPipelineLayout(dev, l, nullptr); });
 
-  std::vector<VkSpecializationMapEntry> entries;
-  std::vector<uint32_t> values;
-  for (const auto& [id, value] : specConstants) {
-    entries.push_back({id, static_cast<uint32_t>(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
-    values.push_back(value);
-  }
-  VkSpecializationInfo spec{static_cast<uint32_t>(entries.size()), entries.data(), values.size() * sizeof(uint32_t),
-                            values.data()};
-  VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  cpci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  cpci.stage.module = sm;
-  cpci.stage.pName = "main";
-  cpci.stage.pSpecializationInfo = entries.empty() ? nullptr : &spec;
-  cpci.layout = pl;
-  VkPipeline p = VK_NULL_HANDLE;
-  OAS_VK_CHECK(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p));
-  pipeline_ = detail::Owned<VkPipeline>(p, [dev](VkPipeline h) { vkDestroyPipeline(dev, h, nullptr); });
+    std::vector<VkSpecializationMapEntry> entries;
+    std::vector<uint32_t> values;
+    for (const auto& [id, value] : specConstants) {
+        entries.push_back({id, static_cast<uint32_t>(values.size() * sizeof(uint32_t)), sizeof(uint32_t)});
+        values.push_back(value);
+    }
+    VkSpecializationInfo spec{static_cast<uint32_t>(entries.size()), entries.data(), values.size() * sizeof(uint32_t),
+                              values.data()};
+    VkComputePipelineCreateInfo cpci{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    cpci.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+    cpci.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+    cpci.stage.module = sm;
+    cpci.stage.pName = "main";
+    cpci.stage.pSpecializationInfo = entries.empty() ? nullptr : &spec;
+    cpci.layout = pl;
+    VkPipeline p = VK_NULL_HANDLE;
+    OAS_VK_CHECK(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &cpci, nullptr, &p));
+    pipeline_ = detail::Owned<VkPipeline>(p, [dev](VkPipeline h) { vkDestroyPipeline(dev, h, nullptr); });
 
-  if (bindingCount > 0) {
-    const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindingCount};
-    VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    dpci.maxSets = 1;
-    dpci.poolSizeCount = 1;
-    dpci.pPoolSizes = &size;
-    VkDescriptorPool pool = VK_NULL_HANDLE;
-    OAS_VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &pool));
-    pool_ = detail::Owned<VkDescriptorPool>(pool, [dev](VkDescriptorPool h) { vkDestroyDescriptorPool(dev, h, nullptr); });
-  }
+    if (bindingCount > 0) {
+        const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindingCount};
+        VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        dpci.maxSets = 1;
+        dpci.poolSizeCount = 1;
+        dpci.pPoolSizes = &size;
+        VkDescriptorPool pool = VK_NULL_HANDLE;
+        OAS_VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &pool));
+        pool_ = detail::Owned<VkDescriptorPool>(pool, [dev](VkDescriptorPool h) { vkDestroyDescriptorPool(dev, h, nullptr); });
+    }
 }
 
-ComputePipeline::~ComputePipeline() {
-  if (ctx_->broken()) pool_.leak(), pipeline_.leak(), layout_.leak(), setLayout_.leak();
+ComputePipeline::~ComputePipeline()
+{
+    if (ctx_->broken()) pool_.leak(), pipeline_.leak(), layout_.leak(), setLayout_.leak();
 }
 
 }  // namespace oas::vk

@@ -22,158 +22,159 @@ namespace oas::vk {
 void selectLavapipeIfUnset();
 
 struct ContextOptions {
-  bool validation = false;         // also switched on by env OAS_VK_VALIDATION=1
-  bool requireValidation = false;  // throw if the validation layer is not installed
-  std::string preferDevice;        // case-sensitive substring of the device name; wins over type
-  double dispatchTimeoutSeconds = 120.0;  // a hung kernel throws instead of blocking forever
-  // Presentation (oas-view): the instance extensions a window system needs (GLFW's
-  // glfwGetRequiredInstanceExtensions), device extensions (VK_KHR_swapchain), and a test of whether
-  // a queue family of a device can present. With canPresent set, only a family that computes and
-  // presents is chosen, so one queue does both and no ownership transfers are needed.
-  std::vector<std::string> instanceExtensions, deviceExtensions;
-  std::function<bool(VkInstance, VkPhysicalDevice, uint32_t family)> canPresent;
+    bool validation = false;                // also switched on by env OAS_VK_VALIDATION=1
+    bool requireValidation = false;         // throw if the validation layer is not installed
+    std::string preferDevice;               // case-sensitive substring of the device name; wins over type
+    double dispatchTimeoutSeconds = 120.0;  // a hung kernel throws instead of blocking forever
+    // Presentation (oas-view): the instance extensions a window system needs (GLFW's
+    // glfwGetRequiredInstanceExtensions), device extensions (VK_KHR_swapchain), and a test of whether
+    // a queue family of a device can present. With canPresent set, only a family that computes and
+    // presents is chosen, so one queue does both and no ownership transfers are needed.
+    std::vector<std::string> instanceExtensions, deviceExtensions;
+    std::function<bool(VkInstance, VkPhysicalDevice, uint32_t family)> canPresent;
 };
 
 namespace detail {
 // Owns one Vulkan handle; the deleter captures whatever parent handle destruction needs.
 template <class T>
 class Owned {
- public:
-  Owned() = default;
-  Owned(T h, std::function<void(T)> del) : h_(h), del_(std::move(del)) {}
-  Owned(Owned&& o) noexcept : h_(std::exchange(o.h_, T{})), del_(std::move(o.del_)) {}
-  Owned& operator=(Owned&& o) noexcept {
-    if (this != &o) {
-      reset();
-      h_ = std::exchange(o.h_, T{});
-      del_ = std::move(o.del_);
+public:
+    Owned() = default;
+    Owned(T h, std::function<void(T)> del) : h_(h), del_(std::move(del)) {}
+    Owned(Owned&& o) noexcept : h_(std::exchange(o.h_, T{})), del_(std::move(o.del_)) {}
+    Owned& operator=(Owned&& o) noexcept
+    {
+        if (this != &o) {
+            reset();
+            h_ = std::exchange(o.h_, T{});
+            del_ = std::move(o.del_);
+        }
+        return *this;
     }
-    return *this;
-  }
-  Owned(const Owned&) = delete;
-  Owned& operator=(const Owned&) = delete;
-  ~Owned() { reset(); }
-  void reset() {
-    if (h_ != T{} && del_) del_(h_);
-    h_ = T{};
-  }
-  T get() const { return h_; }
-  void leak() { h_ = T{}; }  // for when destroying could race with a GPU that never finished
+    Owned(const Owned&) = delete;
+    Owned& operator=(const Owned&) = delete;
+    ~Owned() { reset(); }
+    void reset()
+    {
+        if (h_ != T{} && del_) del_(h_);
+        h_ = T{};
+    }
+    T get() const { return h_; }
+    void leak() { h_ = T{}; }  // for when destroying could race with a GPU that never finished
 
- private:
-  T h_{};
-  std::function<void(T)> del_;
+private:
+    T h_{};
+    std::function<void(T)> del_;
 };
 }  // namespace detail
 
 class Context;
 
 class Buffer {
- public:
-  Buffer(Context& ctx, VkDeviceSize bytes);
-  Buffer(Buffer&& o) noexcept;
-  Buffer& operator=(Buffer&&) = delete;
-  ~Buffer();
-  void* data() const { return mapped_; }
-  VkDeviceSize size() const { return size_; }
-  VkBuffer handle() const { return buffer_.get(); }
-  bool deviceLocal() const { return deviceLocal_; }
+public:
+    Buffer(Context& ctx, VkDeviceSize bytes);
+    Buffer(Buffer&& o) noexcept;
+    Buffer& operator=(Buffer&&) = delete;
+    ~Buffer();
+    void* data() const { return mapped_; }
+    VkDeviceSize size() const { return size_; }
+    VkBuffer handle() const { return buffer_.get(); }
+    bool deviceLocal() const { return deviceLocal_; }
 
- private:
-  const Context* ctx_;
-  VkDeviceSize size_ = 0;
-  void* mapped_ = nullptr;
-  bool deviceLocal_ = false;
-  detail::Owned<VkDeviceMemory> memory_;  // declared first: freed after the buffer using it
-  detail::Owned<VkBuffer> buffer_;
+private:
+    const Context* ctx_;
+    VkDeviceSize size_ = 0;
+    void* mapped_ = nullptr;
+    bool deviceLocal_ = false;
+    detail::Owned<VkDeviceMemory> memory_;  // declared first: freed after the buffer using it
+    detail::Owned<VkBuffer> buffer_;
 };
 
 class ComputePipeline {
- public:
-  using SpecConstants = std::vector<std::pair<uint32_t, uint32_t>>;  // (constant_id, value)
-  ComputePipeline(Context& ctx, const uint32_t* code, size_t byteSize, uint32_t bindingCount,
-                  uint32_t pushConstantBytes, const SpecConstants& specConstants = {});
-  ComputePipeline(ComputePipeline&&) noexcept = default;
-  ComputePipeline& operator=(ComputePipeline&&) = delete;
-  ~ComputePipeline();
-  uint32_t bindingCount() const { return bindingCount_; }
-  uint32_t pushConstantBytes() const { return pushBytes_; }
-  VkPipeline handle() const { return pipeline_.get(); }
+public:
+    using SpecConstants = std::vector<std::pair<uint32_t, uint32_t>>;  // (constant_id, value)
+    ComputePipeline(Context& ctx, const uint32_t* code, size_t byteSize, uint32_t bindingCount, uint32_t pushConstantBytes,
+                    const SpecConstants& specConstants = {});
+    ComputePipeline(ComputePipeline&&) noexcept = default;
+    ComputePipeline& operator=(ComputePipeline&&) = delete;
+    ~ComputePipeline();
+    uint32_t bindingCount() const { return bindingCount_; }
+    uint32_t pushConstantBytes() const { return pushBytes_; }
+    VkPipeline handle() const { return pipeline_.get(); }
 
- private:
-  friend class Context;
-  const Context* ctx_;
-  uint32_t bindingCount_ = 0;
-  uint32_t pushBytes_ = 0;
-  detail::Owned<VkDescriptorSetLayout> setLayout_;
-  detail::Owned<VkPipelineLayout> layout_;
-  detail::Owned<VkPipeline> pipeline_;
-  detail::Owned<VkDescriptorPool> pool_;  // one set, reset per dispatch
+private:
+    friend class Context;
+    const Context* ctx_;
+    uint32_t bindingCount_ = 0;
+    uint32_t pushBytes_ = 0;
+    detail::Owned<VkDescriptorSetLayout> setLayout_;
+    detail::Owned<VkPipelineLayout> layout_;
+    detail::Owned<VkPipeline> pipeline_;
+    detail::Owned<VkDescriptorPool> pool_;  // one set, reset per dispatch
 };
 
 class Context {
- public:
-  explicit Context(const ContextOptions& opts = {});
-  ~Context();
-  Context(const Context&) = delete;
-  Context& operator=(const Context&) = delete;
+public:
+    explicit Context(const ContextOptions& opts = {});
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
 
-  VkInstance instance() const { return instance_.get(); }
-  VkDevice device() const { return device_.get(); }
-  VkPhysicalDevice physicalDevice() const { return physical_; }
-  VkQueue queue() const { return queue_; }
-  uint32_t queueFamily() const { return queueFamily_; }
-  const std::string& deviceName() const { return deviceName_; }
-  const std::string& driverName() const { return driverName_; }  // empty if not reported
-  const VkPhysicalDeviceLimits& limits() const { return limits_; }
-  const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memProps_; }
-  // Worth checking in tests: lavapipe (verified on Mesa 22.3) silently ends shader loops after
-  // 65535 back-edges per invocation, summed over all loops, and caps storage bindings at 128 MiB.
-  bool isLavapipe() const { return isLavapipe_; }
-  bool broken() const { return broken_; }  // a dispatch timed out or the device was lost
+    VkInstance instance() const { return instance_.get(); }
+    VkDevice device() const { return device_.get(); }
+    VkPhysicalDevice physicalDevice() const { return physical_; }
+    VkQueue queue() const { return queue_; }
+    uint32_t queueFamily() const { return queueFamily_; }
+    const std::string& deviceName() const { return deviceName_; }
+    const std::string& driverName() const { return driverName_; }  // empty if not reported
+    const VkPhysicalDeviceLimits& limits() const { return limits_; }
+    const VkPhysicalDeviceMemoryProperties& memoryProperties() const { return memProps_; }
+    // Worth checking in tests: lavapipe (verified on Mesa 22.3) silently ends shader loops after
+    // 65535 back-edges per invocation, summed over all loops, and caps storage bindings at 128 MiB.
+    bool isLavapipe() const { return isLavapipe_; }
+    bool broken() const { return broken_; }  // a dispatch timed out or the device was lost
 
-  bool validationEnabled() const { return validation_; }
-  // Findings: every warning or error the layers reported (VUIDs, undefined behaviour, performance
-  // warnings). Tests fail on any of these.
-  std::vector<std::string> validationMessages() const;
-  // Notes: info-level messages (the layer's status lines, its cache file). The Khronos layer
-  // reports every usage finding at warning or error severity, so these say nothing about our use of
-  // the API; they are kept for diagnosis and printed only with OAS_VK_VERBOSE=1.
-  std::vector<std::string> validationNotes() const;
-  void clearValidationMessages();
+    bool validationEnabled() const { return validation_; }
+    // Findings: every warning or error the layers reported (VUIDs, undefined behaviour, performance
+    // warnings). Tests fail on any of these.
+    std::vector<std::string> validationMessages() const;
+    // Notes: info-level messages (the layer's status lines, its cache file). The Khronos layer
+    // reports every usage finding at warning or error severity, so these say nothing about our use of
+    // the API; they are kept for diagnosis and printed only with OAS_VK_VERBOSE=1.
+    std::vector<std::string> validationNotes() const;
+    void clearValidationMessages();
 
-  // Synchronous: returns once the GPU is done and shader writes are visible through
-  // Buffer::data(). buffers[i] is bound to binding i.
-  void dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData,
-                uint32_t pushBytes, uint32_t gx, uint32_t gy = 1, uint32_t gz = 1);
+    // Synchronous: returns once the GPU is done and shader writes are visible through
+    // Buffer::data(). buffers[i] is bound to binding i.
+    void dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData, uint32_t pushBytes, uint32_t gx,
+                  uint32_t gy = 1, uint32_t gz = 1);
 
- private:
-  static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(
-      VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
-      const VkDebugUtilsMessengerCallbackDataEXT*, void*);
-  void pickPhysicalDevice(const ContextOptions& opts, uint32_t instanceApi);
+private:
+    static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
+                                                         const VkDebugUtilsMessengerCallbackDataEXT*, void*);
+    void pickPhysicalDevice(const ContextOptions& opts, uint32_t instanceApi);
 
-  // The log is declared before every handle so it outlives the messenger's last callback.
-  mutable std::mutex logMutex_;
-  std::vector<std::string> log_, notes_;
-  bool verbose_ = false;
-  bool validation_ = false;
-  bool broken_ = false;
-  uint64_t timeoutNs_ = 0;
+    // The log is declared before every handle so it outlives the messenger's last callback.
+    mutable std::mutex logMutex_;
+    std::vector<std::string> log_, notes_;
+    bool verbose_ = false;
+    bool validation_ = false;
+    bool broken_ = false;
+    uint64_t timeoutNs_ = 0;
 
-  detail::Owned<VkInstance> instance_;
-  detail::Owned<VkDebugUtilsMessengerEXT> messenger_;
-  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
-  uint32_t queueFamily_ = 0;
-  std::string deviceName_, driverName_;
-  VkPhysicalDeviceLimits limits_{};
-  VkPhysicalDeviceMemoryProperties memProps_{};
-  bool isLavapipe_ = false;
-  detail::Owned<VkDevice> device_;
-  VkQueue queue_ = VK_NULL_HANDLE;
-  detail::Owned<VkCommandPool> cmdPool_;  // frees the command buffer with it
-  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
-  detail::Owned<VkFence> fence_;
+    detail::Owned<VkInstance> instance_;
+    detail::Owned<VkDebugUtilsMessengerEXT> messenger_;
+    VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+    uint32_t queueFamily_ = 0;
+    std::string deviceName_, driverName_;
+    VkPhysicalDeviceLimits limits_{};
+    VkPhysicalDeviceMemoryProperties memProps_{};
+    bool isLavapipe_ = false;
+    detail::Owned<VkDevice> device_;
+    VkQueue queue_ = VK_NULL_HANDLE;
+    detail::Owned<VkCommandPool> cmdPool_;  // frees the command buffer with it
+    VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+    detail::Owned<VkFence> fence_;
 };
 
 // Throws VulkanError listing every collected validation message (no-op when there are none).

@@ -15,25 +15,48 @@ struct Case {
     std::uint32_t spp;
     std::uint32_t strength;  ///< 0: the sampler's default (as PatternRequest)
     std::string offset;
-    std::uint32_t dims;      ///< PatternRequest::dims (only CMJND's default strength reads it)
+    std::uint32_t dims;  ///< PatternRequest::dims (only CMJND's default strength reads it)
 };
 
 inline const std::vector<Case>& cases()
 {
     static const std::vector<Case> list = {
-        {"bose", 4, 0, "cmj", 3},        {"bose", 9, 0, "centered", 4},   {"bose", 9, 0, "j", 4},
-        {"bose", 9, 0, "mj", 4},         {"bose", 9, 0, "cmj", 4},        {"bose", 16, 0, "cmj", 5},
-        {"bose", 49, 0, "cmj", 8},       {"bose", 64, 0, "mj", 9},        {"bose", 81, 0, "cmj", 10},
-        {"bose", 121, 0, "cmj", 12},     {"bush", 27, 3, "j", 4},         {"bush", 64, 3, "cmj", 5},
-        {"bush", 125, 3, "cmj", 6},      {"bush", 256, 4, "mj", 5},       {"bose-bush", 8, 0, "cmj", 5},
-        {"bose-bush", 32, 0, "cmj", 9},  {"bose-bush", 128, 0, "centered", 17},
-        {"addelman-kempthorne", 18, 0, "cmj", 7},   {"addelman-kempthorne", 50, 0, "mj", 11},
-        {"addelman-kempthorne", 98, 0, "cmj", 15},  {"addelman-kempthorne", 162, 0, "cmj", 19},
-        {"cmjnd", 9, 2, "cmj", 2},       {"cmjnd", 27, 3, "cmj", 3},      {"cmjnd", 16, 4, "j", 4},
-        {"cmjnd", 32, 5, "centered", 5}, {"random", 7, 0, "cmj", 3},      {"jittered2d", 12, 0, "cmj", 4},
-        {"jittered2d", 7, 0, "cmj", 2},  {"jittered2d", 16, 0, "cmj", 3}, {"cmj2d", 12, 0, "cmj", 4},
-        {"cmj2d", 16, 0, "cmj", 2},      {"zerotwo", 16, 0, "cmj", 3},    {"zerotwo", 10, 0, "cmj", 3},
-        {"halton", 16, 0, "cmj", 3},     {"sobol", 16, 0, "cmj", 3},      {"sobol", 10, 0, "cmj", 3},
+        {"bose", 4, 0, "cmj", 3},
+        {"bose", 9, 0, "centered", 4},
+        {"bose", 9, 0, "j", 4},
+        {"bose", 9, 0, "mj", 4},
+        {"bose", 9, 0, "cmj", 4},
+        {"bose", 16, 0, "cmj", 5},
+        {"bose", 49, 0, "cmj", 8},
+        {"bose", 64, 0, "mj", 9},
+        {"bose", 81, 0, "cmj", 10},
+        {"bose", 121, 0, "cmj", 12},
+        {"bush", 27, 3, "j", 4},
+        {"bush", 64, 3, "cmj", 5},
+        {"bush", 125, 3, "cmj", 6},
+        {"bush", 256, 4, "mj", 5},
+        {"bose-bush", 8, 0, "cmj", 5},
+        {"bose-bush", 32, 0, "cmj", 9},
+        {"bose-bush", 128, 0, "centered", 17},
+        {"addelman-kempthorne", 18, 0, "cmj", 7},
+        {"addelman-kempthorne", 50, 0, "mj", 11},
+        {"addelman-kempthorne", 98, 0, "cmj", 15},
+        {"addelman-kempthorne", 162, 0, "cmj", 19},
+        {"cmjnd", 9, 2, "cmj", 2},
+        {"cmjnd", 27, 3, "cmj", 3},
+        {"cmjnd", 16, 4, "j", 4},
+        {"cmjnd", 32, 5, "centered", 5},
+        {"random", 7, 0, "cmj", 3},
+        {"jittered2d", 12, 0, "cmj", 4},
+        {"jittered2d", 7, 0, "cmj", 2},
+        {"jittered2d", 16, 0, "cmj", 3},
+        {"cmj2d", 12, 0, "cmj", 4},
+        {"cmj2d", 16, 0, "cmj", 2},
+        {"zerotwo", 16, 0, "cmj", 3},
+        {"zerotwo", 10, 0, "cmj", 3},
+        {"halton", 16, 0, "cmj", 3},
+        {"sobol", 16, 0, "cmj", 3},
+        {"sobol", 10, 0, "cmj", 3},
     };
     return list;
 }
@@ -52,8 +75,14 @@ inline std::vector<std::uint32_t> firstFewThenNext(std::uint32_t size, std::uint
     return out;
 }
 /// Sample indices: five of pass 0, then two of pass 1 (a fresh randomization).
-inline std::vector<std::uint32_t> indicesFor(std::uint32_t N) { return firstFewThenNext(N, 5); }
+inline std::vector<std::uint32_t> indicesFor(std::uint32_t N)
+{
+    return firstFewThenNext(N, 5);
+}
 /// Dimensions: four of block 0, then two of block 1 (an independent block).
-inline std::vector<std::uint32_t> dimsFor(std::uint32_t blockDims) { return firstFewThenNext(blockDims, 4); }
+inline std::vector<std::uint32_t> dimsFor(std::uint32_t blockDims)
+{
+    return firstFewThenNext(blockDims, 4);
+}
 
 }  // namespace oas::golden

@@ -31,13 +31,14 @@ int main()
             for (auto d : dims) row.push_back(std::uint32_t(std::ldexp(double(oas::sample(p, seed, i, d)), 24)));
             samples.push_back(row);
         }
-        cases.push_back({{"request", {{"sampler", c.sampler}, {"spp", c.spp}, {"strength", c.strength},
-                                      {"offset", c.offset}, {"dims", c.dims}}},
-                         {"describe", oas::describe(p)},
-                         {"words", std::vector<std::uint32_t>(words, words + 16)},
-                         {"indices", indices},
-                         {"dims", dims},
-                         {"F", samples}});
+        cases.push_back(
+            {{"request",
+              {{"sampler", c.sampler}, {"spp", c.spp}, {"strength", c.strength}, {"offset", c.offset}, {"dims", c.dims}}},
+             {"describe", oas::describe(p)},
+             {"words", std::vector<std::uint32_t>(words, words + 16)},
+             {"indices", indices},
+             {"dims", dims},
+             {"F", samples}});
     }
     // One case per line: short enough to read, and a changed sample shows as a changed line.
     std::printf("{\n \"format\": \"oas golden vectors 1\",\n");
@@ -45,9 +46,14 @@ int main()
                 json("Requests -> OasPattern words (docs/PATTERN.md, in order) -> samples of one pixel as integers F, "
                      "value = F / 2^24, at the listed sample indices (rows) and dimensions (columns). C "
                      "(oas_make_pattern(words[0], words[2], words[4], words[1])), C++ and GLSL are checked against "
-                     "this file by ctest; other ports can check themselves against it.").dump().c_str());
-    std::printf(" \"pixel\": %s,\n", json({{"x", oas::golden::kPixelX}, {"y", oas::golden::kPixelY},
-                                             {"seed", oas::golden::kSeed}, {"pixelSeed", seed}}).dump().c_str());
+                     "this file by ctest; other ports can check themselves against it.")
+                    .dump()
+                    .c_str());
+    std::printf(
+        " \"pixel\": %s,\n",
+        json({{"x", oas::golden::kPixelX}, {"y", oas::golden::kPixelY}, {"seed", oas::golden::kSeed}, {"pixelSeed", seed}})
+            .dump()
+            .c_str());
     std::printf(" \"cases\": [\n");
     for (std::size_t i = 0; i < cases.size(); ++i)
         std::printf("  %s%s\n", cases[i].dump().c_str(), i + 1 < cases.size() ? "," : "");
