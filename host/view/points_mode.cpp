@@ -20,7 +20,7 @@ PointsMode::PointsMode(const CommonOptions& o, std::uint32_t dims, std::uint32_t
     stem_ = o.save.empty() ? "out/view_points" : o.save;
 }
 
-void PointsMode::key(const ScriptedKey& k, Viewer& v)
+void PointsMode::key(const ScriptedKey& k, Viewer&)
 {
     switch (k.key) {
     case GLFW_KEY_RIGHT_BRACKET:
@@ -65,10 +65,6 @@ void PointsMode::key(const ScriptedKey& k, Viewer& v)
     }
     case GLFW_KEY_P:
         saveRequested_ = true;
-        break;
-    case GLFW_KEY_Q:
-    case GLFW_KEY_ESCAPE:
-        v.close();
         break;
     default:
         break;

@@ -101,10 +101,6 @@ void RenderMode::key(const ScriptedKey& k, Viewer& v)
         glfwSetWindowSize(v.window(), int(windowWidth()), int(windowHeight()));
         shown_.width = 0;  // redraw at the new zoom
         break;
-    case GLFW_KEY_Q:
-    case GLFW_KEY_ESCAPE:
-        v.close();
-        break;
     default:
         break;
     }

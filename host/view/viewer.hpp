@@ -93,7 +93,7 @@ private:
 /// Writes `frame` as a PNG (atomically, creating the folder) and says so on stdout.
 void writeScreenshot(const std::string& path, const Frame& frame);
 
-/// The frame loop both modes share. A Mode has key(k, viewer), frame(viewer) -> const Frame&,
+/// The frame loop both modes share; q and Esc close the window. A Mode has key(k, viewer), frame(viewer) -> const Frame&,
 /// complete(), busy() (another thread uses the queue: do not present), title() and release()
 /// (frees its Vulkan objects before the context goes); one that also has takeSaveRequest() and
 /// stem() saves the window's picture as STEM.png when its p key asks.
@@ -112,7 +112,13 @@ int runFrames(Mode& mode, Viewer& viewer, const CommonOptions& o)
     double slowestFrame = 0;
     while (!viewer.shouldClose()) {
         ++loops;
-        for (const auto& k : viewer.keys(script, frame + 1)) mode.key(k, viewer);
+        for (const auto& k : viewer.keys(script, frame + 1)) {
+            // q and Esc quit in every mode; the mode sees the other keys.
+            if (k.key == GLFW_KEY_Q || k.key == GLFW_KEY_ESCAPE)
+                viewer.close();
+            else
+                mode.key(k, viewer);
+        }
         if (viewer.shouldClose()) break;
         const auto t = Clock::now();
         const Frame& f = mode.frame(viewer);
