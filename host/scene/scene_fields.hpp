@@ -50,6 +50,18 @@ public:
     /// The node must be an object whose keys are all in `allowed` ("comment" is always allowed).
     void objectKeys(const json& obj, const std::string& path, std::string_view what,
                     std::initializer_list<std::string_view> allowed) const;
+    /// The node at `path` must be an array of objects ("an array of WHAT objects"); calls
+    /// visit(object, "path[i]") for each element in order.
+    template <class Visit>
+    void forEachObject(const json& v, const std::string& path, std::string_view what, Visit&& visit) const
+    {
+        if (!v.is_array()) typeError(v, path, "an array", "an array of " + std::string(what) + " objects");
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const std::string elementPath = element(path, i);
+            if (!v[i].is_object()) typeError(v[i], elementPath, "an object", "a " + std::string(what) + " object");
+            visit(v[i], elementPath);
+        }
+    }
 
     // Scalars.
     [[noreturn]] void typeError(const json& v, const std::string& path, std::string_view expected, std::string_view valid) const;

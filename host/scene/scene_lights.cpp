@@ -10,11 +10,7 @@ namespace oas::scene::detail {
 
 void Loader::lights(const json& v, Scene& scene) const
 {
-    if (!v.is_array()) typeError(v, "lights", "an array", "an array of light objects");
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        const std::string p = element("lights", i);
-        const json& l = v[i];
-        if (!l.is_object()) typeError(l, p, "an object", "a light object");
+    forEachObject(v, "lights", "light", [&](const json& l, const std::string& p) {
         const std::string type = choice(require(l, p, "type", "point | spot"), child(p, "type"), {"point", "spot"},
                                         " (area lights are shapes whose material has \"emission\"; a constant environment is the "
                                         "top-level \"environment\")");
@@ -43,7 +39,7 @@ void Loader::lights(const json& v, Scene& scene) const
             light.cosInner = float(std::cos(double(inner) * kDegree));
         }
         scene.lights.push_back(light);
-    }
+    });
 }
 
 }  // namespace oas::scene::detail

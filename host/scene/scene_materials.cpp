@@ -9,11 +9,7 @@ namespace oas::scene::detail {
 
 void Loader::materials(const json& v, Scene& scene) const
 {
-    if (!v.is_array()) typeError(v, "materials", "an array", "an array of material objects");
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        const std::string p = element("materials", i);
-        const json& m = v[i];
-        if (!m.is_object()) typeError(m, p, "an object", "a material object");
+    forEachObject(v, "materials", "material", [&](const json& m, const std::string& p) {
         Material mat;
         std::string type = "diffuse";
         if (auto* t = find(m, "type")) type = choice(*t, child(p, "type"), {"diffuse", "conductor", "dielectric"});
@@ -41,7 +37,7 @@ void Loader::materials(const json& v, Scene& scene) const
         if (auto* n = find(m, "ior")) mat.ior = realIn(*n, child(p, "ior"), 1, 4, "1 .. 4 (index of refraction)");
         if (auto* e = find(m, "emission")) mat.emission = color(*e, child(p, "emission"), 0, FLT_MAX);
         scene.materials.push_back(std::move(mat));
-    }
+    });
 }
 
 std::uint32_t Loader::materialRef(const json& shape, const std::string& p, const Scene& scene) const

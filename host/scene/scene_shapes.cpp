@@ -13,17 +13,12 @@ namespace fs = std::filesystem;
 
 void Loader::shapes(const json& v, Scene& scene) const
 {
-    if (!v.is_array()) typeError(v, "shapes", "an array", "an array of shape objects");
-    if (v.empty()) fail("shapes", "[] is empty: valid at least one shape");
-    for (std::size_t i = 0; i < v.size(); ++i) {
-        const std::string p = element("shapes", i);
-        const json& s = v[i];
-        if (!s.is_object()) typeError(s, p, "an object", "a shape object");
+    forEachObject(v, "shapes", "shape", [&](const json& s, const std::string& p) {
         const std::string type = choice(require(s, p, "type", "sphere | quad | rectangle | triangle | mesh"), child(p, "type"),
                                         {"sphere", "quad", "rectangle", "triangle", "mesh"});
         if (type == "mesh") {
             mesh(s, p, scene);
-            continue;
+            return;
         }
         Shape shape;
         if (type == "sphere") {
@@ -61,7 +56,8 @@ void Loader::shapes(const json& v, Scene& scene) const
             fail(p, fmt::format("the {}'s area {} overflows 32-bit floats: valid a smaller shape", kind, shape.area()));
         checkFiniteBounds(shape, scene, p, kind);
         scene.shapes.push_back(std::move(shape));
-    }
+    });
+    if (v.empty()) fail("shapes", "[] is empty: valid at least one shape");
 }
 
 void Loader::checkFiniteBounds(const Shape& shape, const Scene& scene, const std::string& path, std::string_view kind) const
