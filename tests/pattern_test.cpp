@@ -34,8 +34,10 @@ using Fields = std::vector<std::pair<std::string, std::string>>;  // (type, name
 // test below fails unless this list equals both parsed sources, so it cannot fall behind them.
 #define OAS_TEST_PATTERN_FIELDS(X)                                                                                               \
     X(construction)                                                                                                              \
-    X(offset) X(N) X(s) X(strength) X(blockDims) X(fieldP) X(fieldK) X(fieldQ) X(fieldPoly) X(aux) X(aux2) X(recipS) X(recipP)   \
-        X(recipN) X(recipShifts)
+    X(offset)                                                                                                                    \
+    X(N)                                                                                                                         \
+    X(s) X(strength) X(blockDims) X(fieldP) X(fieldK) X(fieldQ) X(fieldPoly) X(aux) X(aux2) X(recipS) X(recipP) X(recipN)        \
+        X(recipShifts)
 
 // oas::glsl::OasPattern is the GLSL struct itself, compiled as C++ (glsl_compat.hpp); with uint
 // members only, its C++ layout is std430's (4-byte words, no padding).
@@ -107,6 +109,32 @@ TEST(PatternLayout, GlslStructAndCStructListTheSameFields)
     std::vector<std::string> names;
     for (auto& field : glsl) names.push_back(field.second);
     EXPECT_EQ(checked, names) << "OAS_TEST_PATTERN_FIELDS must list every field for the offset checks";
+}
+
+TEST(PatternLayout, FieldNameTableIsTheStructsFieldList)
+{
+    const Fields c = parseMembers(readFile(OAS_SOURCE_DIR "/host/oas/oas_pattern.h"), "typedef struct OasPattern {");
+    std::vector<std::string> fromStruct, fromTable;
+    for (const auto& field : c) fromStruct.push_back(field.second);
+    for (std::size_t word = 0; oas_pattern_field_name(word); ++word) fromTable.push_back(oas_pattern_field_name(word));
+    EXPECT_EQ(fromTable, fromStruct) << "oas_pattern_field_name must name the struct's words in order";
+}
+
+TEST(PatternLayout, SpecificationPageListsTheStructsWords)
+{
+    // docs/PATTERN.md is the specification ports implement, so it states the layout for readers;
+    // its word table ("| # | `name` |" rows) must be the struct's field list, number for number.
+    const std::string page = readFile(OAS_SOURCE_DIR "/docs/PATTERN.md");
+    const std::regex row(R"(\n\| (\d+) \| `(\w+)` \|)");
+    std::vector<std::string> documented;
+    for (auto it = std::sregex_iterator(page.begin(), page.end(), row); it != std::sregex_iterator(); ++it) {
+        EXPECT_EQ(std::stoul((*it)[1]), documented.size()) << "word numbers must count up from 0";
+        documented.push_back((*it)[2]);
+    }
+    std::vector<std::string> fromStruct;
+    for (const auto& field : parseMembers(readFile(OAS_SOURCE_DIR "/host/oas/oas_pattern.h"), "typedef struct OasPattern {"))
+        fromStruct.push_back(field.second);
+    EXPECT_EQ(documented, fromStruct) << "docs/PATTERN.md's word table and host/oas/oas_pattern.h disagree";
 }
 
 TEST(PatternLayout, ParserReadsWhatItIsGiven)

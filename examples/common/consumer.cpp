@@ -445,15 +445,12 @@ std::string checkCApi(const Case& c, const oas::Pattern& expected)
     if (oas_make_pattern(construction, c.request.spp, c.request.strength, c.cOffset, &p, why, sizeof why) != 0)
         return std::string("oas_make_pattern failed: ") + why;
     static_assert(sizeof(OasPattern) == sizeof(oas::Pattern));
-    static const char* const fields[16] = {"construction", "offset", "N", "s", "strength", "blockDims",
-                                           "fieldP", "fieldK", "fieldQ", "fieldPoly", "aux", "aux2",
-                                           "recipS", "recipP", "recipN", "recipShifts"};
     uint32_t got[16], want[16];
     std::memcpy(got, &p, sizeof got);
     std::memcpy(want, &expected, sizeof want);
     for (int i = 0; i < 16; ++i)
         if (got[i] != want[i])
-            return std::string("oas_make_pattern gives ") + fields[i] + " = " + std::to_string(got[i]) +
+            return std::string("oas_make_pattern gives ") + oas_pattern_field_name(std::size_t(i)) + " = " + std::to_string(got[i]) +
                    ", oas::makePattern " + std::to_string(want[i]);
     return {};
 }

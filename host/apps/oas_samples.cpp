@@ -81,14 +81,13 @@ void printList(std::uint32_t spp, std::uint32_t dims, std::uint32_t strength)
 /// The pattern's words by name, in layout order, for hosts that upload it without linking oas.
 std::string patternJson(const oas::Pattern& p)
 {
-    static const char* names[16] = {"construction", "offset",    "N",   "s",    "strength", "blockDims", "fieldP", "fieldK",
-                                    "fieldQ",       "fieldPoly", "aux", "aux2", "recipS",   "recipP",    "recipN", "recipShifts"};
     const std::uint32_t* words = &p.construction;
     std::string out = "{\n  \"describe\": \"" + oas::describe(p) + "\",\n  \"words\": [";
     for (int i = 0; i < 16; ++i) out += (i ? ", " : "") + std::to_string(words[i]);
     out += "],\n";
     for (int i = 0; i < 16; ++i)
-        out += "  \"" + std::string(names[i]) + "\": " + std::to_string(words[i]) + (i < 15 ? ",\n" : "\n");
+        out += "  \"" + std::string(oas_pattern_field_name(std::size_t(i))) + "\": " + std::to_string(words[i]) +
+               (i < 15 ? ",\n" : "\n");
     return out + "}\n";
 }
 

@@ -193,6 +193,15 @@ const char* oas_construction_name(uint32_t construction)
     return NULL;
 }
 
+const char* oas_pattern_field_name(size_t word)
+{
+    /* In the struct's order; tests/pattern_test.cpp compares this list with the parsed struct. */
+    static const char* const names[] = {"construction", "offset", "N",    "s",      "strength", "blockDims",
+                                        "fieldP",       "fieldK", "fieldQ", "fieldPoly", "aux", "aux2",
+                                        "recipS",       "recipP", "recipN", "recipShifts"};
+    return word < sizeof names / sizeof names[0] ? names[word] : NULL;
+}
+
 /* ---- patterns ----------------------------------------------------------------------------- */
 
 /* Whether the shaders can multiply in GF(p^k): an odd extension field's products run in one

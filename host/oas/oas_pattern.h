@@ -89,6 +89,9 @@ uint32_t oas_construction_at(size_t index);
 int oas_construction_from_name(const char* name, uint32_t* construction);
 /** The sampler name of a construction code, or NULL. */
 const char* oas_construction_name(uint32_t construction);
+/** The name of OasPattern's 32-bit word `word` (0 .. 15, "construction" ... "recipShifts"), as
+ *  the struct declares it, for tools that print a pattern; NULL past the last word. */
+const char* oas_pattern_field_name(size_t word);
 
 /**
  * The sample counts n in [lo, hi] for which oas_make_pattern(construction, n, strength, ...)
