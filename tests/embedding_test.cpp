@@ -273,8 +273,8 @@ TEST(Embedding, SingleFileIsTheLibraryWithoutIncludes)
 
 TEST(Embedding, SobolWithoutDirectionNumbersIsACompileError)
 {
-    // The Sobol baseline needs its direction numbers from the includer; without them it used to
-    // fall back to random values silently. Now the includer must choose.
+    // The Sobol baseline needs its direction numbers from the includer. A silent fallback would
+    // hand out values that are not Sobol's, so the includer must choose (or define OAS_NO_SOBOL).
     const std::string head =
         "#version 450\n#extension GL_GOOGLE_include_directive : require\n#extension GL_EXT_control_flow_attributes : require\n";
     const std::string body = "#include \"oas/oas.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() {}\n";

@@ -16,6 +16,9 @@
 // Compiled as GLSL (pt_render.comp) and as C++ with GLM (the CPU reference tracer): both sides
 // add the same words.
 
+#ifndef PT_ACCUMULATE_GLSL
+#define PT_ACCUMULATE_GLSL
+
 /// Words per pixel in an accumulation buffer: R, G, B sums (3 words each, low first), the
 /// samples taken, the samples rejected, one spare word (keeps a pixel 16-byte aligned).
 const uint PT_SUM_WORDS = 12u;
@@ -71,3 +74,5 @@ PtSum pt_sum_of(vec3 l)
     s.lo = uvec3((belowHi - vec3(s.mid)) * 4294967296.0f);  // 32 fractional bits, truncated
     return s;
 }
+
+#endif // PT_ACCUMULATE_GLSL

@@ -1,5 +1,6 @@
 #version 450
-// Another renderer's way of using the library that lavapipe's silent loop cap used to break: one
+// Another renderer's way of using the library, and the one lavapipe's silent cap of 65535 loop
+// iterations per invocation would cut short if the library looped per value: one
 // invocation per pixel loops over `spp` samples and `dims` dimensions (from dimBase) of its pixel.
 // Mode 0 calls oas_sample for each value (the one-shot API); mode 1 makes the block and column
 // state once per pass (OasBlock, OasColumn) and reuses it (the fast-path API). Both must equal the
