@@ -122,6 +122,18 @@ TEST(FastDivision, ShaderMadeReciprocalsEqualTheHostsForEveryDivisorUpTo2Pow16)
     }
 }
 
+TEST(FastDivision, ShaderMadeReciprocalsEqualTheHostsForEveryDivisorUpTo2Pow24)
+{
+    // The 2D baselines make their grid sides' reciprocals in the shader (oas_fastdiv_recip24,
+    // four 32-bit divisions, sides up to N = 2^24): every one must be the host's 64-bit constant.
+    for (std::uint32_t d = 1; d <= (1u << 24); ++d) {
+        const oas::Divisor div = oas::makeDivisor(d);
+        const std::uint32_t shift = oas::glsl::oas_fastdiv_shift(d);
+        ASSERT_EQ(shift, div.shift) << d;
+        ASSERT_EQ(oas::glsl::oas_fastdiv_recip24(d, shift), div.recip) << d;
+    }
+}
+
 /// Exact real-number check: x = F / 2^24 lies in [m / K, (m + 1) / K) iff m 2^24 <= F K < (m + 1) 2^24.
 void expectInsideStratum(float x, std::uint32_t m, std::uint32_t K)
 {

@@ -19,6 +19,66 @@ float sample(const Pattern& pattern, std::uint32_t seed, std::uint32_t index, st
     return glsl::oas_sample(toGlsl(pattern), seed, index, dim);
 }
 
+namespace {
+bool isPadded2d(const glsl::OasPattern& pat)
+{
+    return pat.construction == glsl::OAS_JITTERED_2D || pat.construction == glsl::OAS_CMJ_2D ||
+           pat.construction == glsl::OAS_ZERO_TWO;
+}
+
+// The padded 2D baselines' fast path: each pair's keys once per pass (oas_pair_column), and one
+// cell per (sample, pair) shared by the pair's two dimensions. Flattened: inlining the library's
+// small functions into this loop lets the compiler overlap consecutive samples' work.
+[[gnu::flatten]] void generatePadded2d(const glsl::OasPattern& pat, std::uint32_t seed, const SampleRequest& r, float* pixelOut)
+{
+    for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp;) {
+        const std::uint32_t pass = glsl::oas_div_n(pat, i);
+        const std::uint32_t passSeed = pass == 0 ? seed : glsl::oas_hash3(seed, pass, glsl::OAS_TAG_PASS);
+        const std::uint32_t end =
+            std::uint32_t(std::min<std::uint64_t>(r.firstSample + r.spp, (std::uint64_t(pass) + 1) * pat.N));
+        for (std::uint32_t d = 0; d < r.dims; d += 2) {
+            const bool both = d + 1 < r.dims;
+            const glsl::OasPairColumn x = glsl::oas_pair_column(pat, passSeed, d);
+            const glsl::OasPairColumn y = both ? glsl::oas_pair_column(pat, passSeed, d + 1) : x;
+            float* dst = pixelOut + std::size_t(i - r.firstSample) * r.dims + d;
+            for (std::uint32_t k = i; k != end; ++k, dst += r.dims) {
+                const std::uint32_t index = k - pass * pat.N;
+                const std::uint32_t cell = glsl::oas_pair_cell(x, index);
+                dst[0] = glsl::oas_pair_cell_dim(pat, x, cell, index);
+                if (both) dst[1] = glsl::oas_pair_cell_dim(pat, y, cell, index);
+            }
+        }
+        i = end;
+    }
+}
+
+// The OAs' fast path, the one the GPU kernel takes too: block and column state once per pass,
+// one row computation per (sample, block). Not oas_draw, which is per sample: it makes the row
+// permutation and column state again for every sample, where this makes them once for the N
+// samples of a pass (the same values, bit for bit). Flattened, as generatePadded2d.
+[[gnu::flatten]] void generateOa(const glsl::OasPattern& pat, std::uint32_t seed, const SampleRequest& r, float* pixelOut,
+                                 std::vector<glsl::OasColumn>& columns)
+{
+    for (std::uint32_t done = 0; done < r.spp;) {
+        const std::uint32_t first = r.firstSample + done;
+        std::uint32_t count = 0;
+        for (std::uint32_t block = 0, d0 = 0; d0 < r.dims; ++block, d0 += pat.blockDims) {
+            const glsl::OasBlock b = glsl::oas_block(pat, seed, first, block);
+            count = std::min(r.spp - done, pat.N - (first - b.firstIndex));
+            const std::uint32_t cols = std::min(pat.blockDims, r.dims - d0);
+            columns.clear();
+            for (std::uint32_t col = 0; col < cols; ++col) columns.push_back(glsl::oas_column(pat, b.seed, col));
+            for (std::uint32_t k = 0; k < count; ++k) {
+                const glsl::OasRow row = glsl::oas_block_row(b, first + k);
+                float* dst = pixelOut + std::size_t(done + k) * r.dims + d0;
+                for (std::uint32_t col = 0; col < cols; ++col) dst[col] = glsl::oas_column_dim(pat, columns[col], row);
+            }
+        }
+        done += count;
+    }
+}
+}  // namespace
+
 void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, unsigned threads)
 {
     const glsl::OasPattern pat = toGlsl(pattern);
@@ -31,7 +91,11 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
             const std::uint32_t y = r.y0 + std::uint32_t(px / r.width);
             const std::uint32_t seed = glsl::oas_pixel_seed(x, y, r.seed);
             float* pixelOut = out + px * r.spp * r.dims;
-            if (pat.construction >= glsl::OAS_RANDOM) {  // baselines: per sample, OAS_DRAW_MAX dims a call
+            if (isPadded2d(pat)) {
+                generatePadded2d(pat, seed, r, pixelOut);
+                continue;
+            }
+            if (pat.construction >= glsl::OAS_RANDOM) {  // other baselines: per sample, OAS_DRAW_MAX dims a call
                 float* dst = pixelOut;
                 for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp; ++i)
                     for (std::uint32_t d0 = 0; d0 < r.dims; d0 += glsl::OAS_DRAW_MAX) {
@@ -41,27 +105,7 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
                     }
                 continue;
             }
-            // The fast path the GPU kernel takes too: block and column state once per pass,
-            // one row computation per (sample, block). Not oas_draw, which is per sample: it makes
-            // the row permutation and column state again for every sample, where this makes them
-            // once for the N samples of a pass (the same values, bit for bit).
-            for (std::uint32_t done = 0; done < r.spp;) {
-                const std::uint32_t first = r.firstSample + done;
-                std::uint32_t count = 0;
-                for (std::uint32_t block = 0, d0 = 0; d0 < r.dims; ++block, d0 += pat.blockDims) {
-                    const glsl::OasBlock b = glsl::oas_block(pat, seed, first, block);
-                    count = std::min(r.spp - done, pat.N - (first - b.firstIndex));
-                    const std::uint32_t cols = std::min(pat.blockDims, r.dims - d0);
-                    columns.clear();
-                    for (std::uint32_t col = 0; col < cols; ++col) columns.push_back(glsl::oas_column(pat, b.seed, col));
-                    for (std::uint32_t k = 0; k < count; ++k) {
-                        const glsl::OasRow row = glsl::oas_block_row(b, first + k);
-                        float* dst = pixelOut + std::size_t(done + k) * r.dims + d0;
-                        for (std::uint32_t col = 0; col < cols; ++col) dst[col] = glsl::oas_column_dim(pat, columns[col], row);
-                    }
-                }
-                done += count;
-            }
+            generateOa(pat, seed, r, pixelOut, columns);
         }
     };
     if (threads == 1 || pixels < 2) {

@@ -89,6 +89,79 @@ uint oas_sobol(uint index, uint dim)
 }
 #endif
 
+/// The state of one dimension of a padded 2D baseline (jittered2d, cmj2d, zerotwo) that does not
+/// depend on the sample: made once per (pixel, pass, dimension) and reused for all N samples of
+/// the pass (oas_pair_column_dim), as OasColumn is for the OAs. Dimensions (2p, 2p+1) form pair p;
+/// every pair shuffles the sample order independently (Kollig and Keller 2002), which decorrelates
+/// pairs, and that shuffle's keys, not its application, are what the state saves.
+struct OasPairColumn {
+    uint pairSeed;
+    uint axis;               ///< 0: x of the pair, 1: y
+    OasPermutation order;    ///< the pair's shuffle of the sample order
+    OasPermutation across;   ///< cmj2d: the sub-stratum permutation this axis reads (l = 1 otherwise)
+    uint scrambleSeed;       ///< zerotwo: the Owen scrambling seed of this axis
+    uint recipX;             ///< oas_fastdiv constants of nx (a cell's row is its index / nx)
+    uint shiftX;
+    uint strata;             ///< K, the strata of this axis: nx or ny (jittered2d), N (cmj2d)
+    uint recipStrata;        ///< oas_fastdiv constants of K
+    uint shiftStrata;
+};
+
+/// OasPairColumn for dimension `dim` of a padded 2D baseline, pass seed `seed`.
+OasPairColumn oas_pair_column(OasPattern pat, uint seed, uint dim)
+{
+    OasPairColumn c;
+    c.pairSeed = oas_hash2(seed, dim >> 1u);
+    c.axis = dim & 1u;
+    c.order = oas_permutation(pat.N, c.pairSeed ^ OAS_TAG_ROW);
+    // cmj2d's x reads a permutation of the row's ny sub-strata, its y one of the column's nx.
+    bool cmj = OAS_CONSTRUCTION(pat) == OAS_CMJ_2D;
+    uint acrossLength = !cmj ? 1u : c.axis == 0u ? pat.aux2 : pat.aux;
+    c.across = oas_permutation(acrossLength, c.pairSeed ^ (c.axis == 0u ? OAS_TAG_SUB : OAS_TAG_STRATUM));
+    c.scrambleSeed = oas_hash2(c.pairSeed, c.axis);
+    // Divisions by the grid's sides through reciprocals: made here once, so that a value costs
+    // multiplies only (oas_stratum_point would divide six times per value).
+    uint nx = pat.aux == 0u ? 1u : pat.aux;  // zerotwo has no grid; any divisor keeps its unused path defined
+    c.shiftX = oas_fastdiv_shift(nx);
+    c.recipX = oas_fastdiv_recip24(nx, c.shiftX);
+    c.strata = cmj ? pat.N : c.axis == 0u ? nx : pat.aux2 == 0u ? 1u : pat.aux2;
+    c.shiftStrata = cmj ? (pat.recipShifts >> 16u) & 0xffu : c.axis == 0u ? c.shiftX : oas_fastdiv_shift(c.strata);
+    c.recipStrata = cmj ? pat.recipN : c.axis == 0u ? c.recipX : oas_fastdiv_recip24(c.strata, c.shiftStrata);
+    return c;
+}
+
+/// The cell of sample `index` (< N) in its pair's shuffled order: the same for both dimensions
+/// of the pair (their columns share the order), so a caller filling both computes it once.
+uint oas_pair_cell(OasPairColumn c, uint index) { return oas_permutation_apply(c.order, index); }
+
+/// Sample `index` (< N), in cell i = oas_pair_cell(c, index), of the padded 2D baseline
+/// dimension that `c` was made for.
+float oas_pair_cell_dim(OasPattern pat, OasPairColumn c, uint i, uint index)
+{
+    uint jitter = oas_hash3(c.pairSeed ^ OAS_TAG_JITTER, c.axis, index);
+    if (OAS_CONSTRUCTION(pat) == OAS_ZERO_TWO) {
+        uint x = c.axis == 0u ? oas_reverse_bits(i) : oas_sobol_dim1(i);
+        return float(oas_owen_scramble24(x, c.scrambleSeed) >> 8u) * OAS_INV_2POW24;
+    }
+    uint nx = pat.aux;
+    uint ny = pat.aux2;
+    uint cy = oas_fastdiv(i, c.recipX, c.shiftX);
+    uint cx = i - cy * nx;
+    // jittered2d: cell (cx, cy) of the nx x ny grid. cmj2d (Kensler 2013): the cell's
+    // x-substratum is a permutation of its row, shared by all rows (and vice versa), which makes
+    // both 1D projections N-strata Latin hypercubes.
+    uint stratum = c.axis == 0u ? cx : cy;
+    if (OAS_CONSTRUCTION(pat) == OAS_CMJ_2D)
+        stratum = c.axis == 0u ? cx * ny + oas_permutation_apply(c.across, cy) : cy * nx + oas_permutation_apply(c.across, cx);
+    return oas_stratum_point_fast(stratum, c.strata, c.recipStrata, c.shiftStrata, jitter);
+}
+
+/// Sample `index` (< N) of the padded 2D baseline dimension that `c` was made for.
+float oas_pair_column_dim(OasPattern pat, OasPairColumn c, uint index)
+{
+    return oas_pair_cell_dim(pat, c, oas_pair_cell(c, index), index);
+}
+
 /// Baseline samplers. `index` < N; passes (index >= N) are handled by oas_sample.
 float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
 {
@@ -149,31 +222,7 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
         return oas_stratum_point(m, strata, oas_hash2(dimSeed ^ OAS_TAG_JITTER, index));
     }
 
-    // Padded 2D patterns: dimensions (2p, 2p+1) form pair p; every pair shuffles the sample
-    // order independently (Kollig and Keller 2002), which decorrelates pairs.
-    uint pair = dim >> 1u;
-    uint axis = dim & 1u;
-    uint pairSeed = oas_hash2(seed, pair);
-    uint i = oas_permute(index, pat.N, pairSeed ^ OAS_TAG_ROW);
-    uint jitter = oas_hash3(pairSeed ^ OAS_TAG_JITTER, axis, index);
-    if (OAS_CONSTRUCTION(pat) == OAS_ZERO_TWO) {
-        uint x = axis == 0u ? oas_reverse_bits(i) : oas_sobol_dim1(i);
-        return float(oas_owen_scramble24(x, oas_hash2(pairSeed, axis)) >> 8u) * OAS_INV_2POW24;
-    }
-    uint nx = pat.aux;
-    uint ny = pat.aux2;
-    uint cy = i / nx;
-    uint cx = i - cy * nx;
-    if (OAS_CONSTRUCTION(pat) == OAS_JITTERED_2D)
-        return axis == 0u ? oas_stratum_point(cx, nx, jitter) : oas_stratum_point(cy, ny, jitter);
-    // OAS_CMJ_2D (Kensler 2013): the cell's x-substratum is a permutation of its row, shared by all
-    // rows (and vice versa), which makes both 1D projections N-strata Latin hypercubes.
-    if (axis == 0u) {
-        uint sy = oas_permute(cy, ny, pairSeed ^ OAS_TAG_SUB);
-        return oas_stratum_point(cx * ny + sy, pat.N, jitter);
-    }
-    uint sx = oas_permute(cx, nx, pairSeed ^ OAS_TAG_STRATUM);
-    return oas_stratum_point(cy * nx + sx, pat.N, jitter);
+    return oas_pair_column_dim(pat, oas_pair_column(pat, seed, dim), index);
 }
 
 #endif // OAS_BASELINES_GLSL

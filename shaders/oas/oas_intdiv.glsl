@@ -62,4 +62,24 @@ uint oas_fastdiv_recip(uint d, uint l)
     return (high << 16u) + low + 1u;
 }
 
+/// oas_fastdiv_recip for any divisor d in [1, 2^24] (shift l = ceil(log2 d)): the same long
+/// division in four 8-bit steps, each partial remainder below d <= 2^24 so that remainder * 256
+/// fits 32 bits. For divisors the shader derives from a pattern once per column (the 2D
+/// baselines' grid sides): four integer divisions once, then none per value.
+uint oas_fastdiv_recip24(uint d, uint l)
+{
+    uint r = (1u << l) - d;  // < d
+    uint q = 0u;
+    OAS_UNROLL for (uint step = 0u; step < 4u; ++step) {
+        r <<= 8u;
+        uint digit = r / d;
+        q = (q << 8u) | digit;
+        r -= digit * d;
+    }
+    return q + 1u;
+}
+
+/// ceil(log2 d) for d >= 1: the shift oas_fastdiv takes with a divisor d.
+uint oas_fastdiv_shift(uint d) { return d <= 1u ? 0u : uint(findMSB(d - 1u)) + 1u; }
+
 #endif // OAS_INTDIV_GLSL
