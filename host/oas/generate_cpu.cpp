@@ -26,6 +26,19 @@ bool isPadded2d(const glsl::OasPattern& pat)
            pat.construction == glsl::OAS_ZERO_TWO;
 }
 
+// The other baselines (random, Halton, Sobol): oas_draw per sample, OAS_DRAW_MAX dimensions a
+// call. Flattened, so that each value is straight-line code rather than a chain of calls.
+[[gnu::flatten]] void generateBaseline(const glsl::OasPattern& pat, std::uint32_t seed, const SampleRequest& r, float* pixelOut)
+{
+    float* dst = pixelOut;
+    for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp; ++i)
+        for (std::uint32_t d0 = 0; d0 < r.dims; d0 += glsl::OAS_DRAW_MAX) {
+            const std::uint32_t n = std::min(glsl::OAS_DRAW_MAX, r.dims - d0);
+            const glsl::OasDraw v = glsl::oas_draw(pat, seed, i, d0, n);
+            dst = std::copy(v.u, v.u + n, dst);
+        }
+}
+
 // The padded 2D baselines' fast path: each pair's keys once per pass (oas_pair_column), and one
 // cell per (sample, pair) shared by the pair's two dimensions. Flattened: inlining the library's
 // small functions into this loop lets the compiler overlap consecutive samples' work.
@@ -96,13 +109,7 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
                 continue;
             }
             if (pat.construction >= glsl::OAS_RANDOM) {  // other baselines: per sample, OAS_DRAW_MAX dims a call
-                float* dst = pixelOut;
-                for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp; ++i)
-                    for (std::uint32_t d0 = 0; d0 < r.dims; d0 += glsl::OAS_DRAW_MAX) {
-                        const std::uint32_t n = std::min(glsl::OAS_DRAW_MAX, r.dims - d0);
-                        const glsl::OasDraw v = glsl::oas_draw(pat, seed, i, d0, n);
-                        dst = std::copy(v.u, v.u + n, dst);
-                    }
+                generateBaseline(pat, seed, r, pixelOut);
                 continue;
             }
             generateOa(pat, seed, r, pixelOut, columns);

@@ -103,21 +103,12 @@ PtGlobals pt_globals()
 #include "pt/pt_trace.glsl"
 #pragma GCC diagnostic pop
 
-/// oas_draw, kept out of line so that pt_cpu_group_dims's flattening does not copy every
-/// baseline into it.
-[[gnu::noinline]] OasDraw pt_cpu_draw(const OasPattern& pat, PtSampleState st, uint first, uint count)
-{
-    return oas_draw(pat, st.seed, st.index, first, count);
-}
-
-/// pt_group_dims for the CPU: oas_draw's values, with the per-pass state from the memo.
-/// Flattened: g++ otherwise calls the library's small functions (the OA level, the permutation
-/// steps, the stratum point) out of line for every value.
-[[gnu::flatten, gnu::noinline]] OasDraw pt_cpu_group_dims(PtSampleState st, uint first, uint count)
+/// The OA path of pt_cpu_group_dims: oas_draw's values, with the per-pass state from the memo.
+/// Flattened (and so kept out of line): g++ otherwise calls the library's small functions (the
+/// OA level, the permutation steps, the stratum point) out of line for every value.
+[[gnu::flatten, gnu::noinline]] OasDraw pt_cpu_oa_group_dims(PtSampleState st, uint first, uint count)
 {
     const OasPattern& pat = tContext->pattern;
-    if (pat.construction >= glsl::OAS_RANDOM || first + count > tContext->plan->sampleDims)
-        return pt_cpu_draw(pat, st, first, count);
     PassStateMemo& m = tPassState;
     const uint pass = glsl::oas_div_n(pat, st.index);
     if (m.generation != tContext->generation || m.seed != st.seed || m.pass != pass) m.reset(*tContext, st.seed, pass);
@@ -140,6 +131,16 @@ PtGlobals pt_globals()
         d.u[k] = glsl::oas_column_dim(pat, m.columns[dim], row);
     }
     return d;
+}
+
+/// pt_group_dims for the CPU: the baselines (and dimensions past the plan) through oas_draw, the
+/// OAs through the memo.
+OasDraw pt_cpu_group_dims(PtSampleState st, uint first, uint count)
+{
+    const OasPattern& pat = tContext->pattern;
+    if (pat.construction >= glsl::OAS_RANDOM || first + count > tContext->plan->sampleDims)
+        return oas_draw(pat, st.seed, st.index, first, count);
+    return pt_cpu_oa_group_dims(st, first, count);
 }
 
 }  // namespace shared

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <glm/geometric.hpp>
 
+#include "oas/oas_pattern.h"
 #include "scene/scene_loader.hpp"
 
 namespace oas::scene {
@@ -82,16 +83,20 @@ int Scene::findMaterial(const std::string& materialName) const
 
 const std::vector<std::string>& samplerNames()
 {
-    static const std::vector<std::string> names = {"oa",     "bose",   "bush",       "bose-bush", "addelman-kempthorne",
-                                                   "cmjnd",  "random", "jittered2d", "cmj2d",     "zerotwo",
-                                                   "halton", "sobol"};
+    // The chooser, then the C builder's table in its order (the library's one list of names).
+    static const std::vector<std::string> names = [] {
+        std::vector<std::string> list = {"oa"};
+        for (std::size_t i = 0; const std::uint32_t code = oas_construction_at(i); ++i)
+            list.push_back(oas_construction_name(code));
+        return list;
+    }();
     return names;
 }
 
 bool samplerIsOrthogonalArray(const std::string& name)
 {
-    return name == "oa" || name == "bose" || name == "bush" || name == "bose-bush" || name == "addelman-kempthorne" ||
-           name == "cmjnd";
+    std::uint32_t code = 0;
+    return name == "oa" || (oas_construction_from_name(name.c_str(), &code) == 0 && code < OAS_RANDOM);
 }
 
 namespace {

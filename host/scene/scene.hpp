@@ -171,7 +171,7 @@ Scene loadScene(const std::filesystem::path& file);
 Scene parseScene(const std::string& jsonText, const std::filesystem::path& nameForMessages, const std::filesystem::path& baseDir);
 
 /// The names accepted in "sampler.name" ("oa" first), and whether each is an orthogonal array
-/// (takes "offset" and "strength"). Mirrors oas::samplerNames(); scene_test checks they agree.
+/// (takes "offset" and "strength"). From the C builder's table (host/oas/oas_pattern.h), as oas::samplerNames().
 const std::vector<std::string>& samplerNames();
 bool samplerIsOrthogonalArray(const std::string& name);
 

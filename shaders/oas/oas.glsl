@@ -60,7 +60,15 @@
 //         per (pixel, pass, block) and per (pixel, pass, block, column), reused across the N
 //         samples of a pass (indices [b.firstIndex, b.firstIndex + N)): seeds, permutation keys
 //         and field constants are made once, and each further value costs only its own work.
-//   OA constructions only (construction < OAS_RANDOM); baselines go through oas_sample.
+//   OA constructions only (construction < OAS_RANDOM); baselines go through oas_sample, except:
+//   OasPairColumn oas_pair_column(OasPattern p, uint passSeed, uint dim)
+//   float         oas_pair_column_dim(OasPattern p, OasPairColumn c, uint index)
+//   uint          oas_pair_cell(OasPairColumn c, uint index)
+//   float         oas_pair_cell_dim(OasPattern p, OasPairColumn c, uint cell, uint index)
+//         the padded 2D baselines' (jittered2d, cmj2d, zerotwo) fast path: the pair's keys and
+//         the grid's reciprocals once per (pixel, pass, dimension); index < N within the pass,
+//         passSeed = pixelSeed in pass 0, oas_hash3(pixelSeed, pass, OAS_TAG_PASS) after it.
+//         The two dimensions of a pair share one cell (oas_pair_cell) per sample.
 //
 // EXAMPLE (one invocation per pixel, looping over all of its samples; the library adds no loop
 // iterations, so the loops may be as long as the renderer's own budget allows)
