@@ -6,9 +6,11 @@ between repeats so that drift on a shared machine hits both sides alike), and me
 
   (a) sample generation, 16384 pixels x 121 spp x 8 dims: oas-bench rows against Mitsuba's
       `orthogonal`, `multijitter` and `independent` samplers on its LLVM backend;
-  (b) rendering cornell7d (scenes/cornell7d.json, converted here to a Mitsuba scene dict) with
-      the `direct` integrator at 121 spp: oas-render-bench (GPU, lavapipe) and oas-render
-      --device cpu against Mitsuba's `orthogonal` and `independent` samplers.
+  (b) rendering three scenes, each converted here to a Mitsuba scene dict (Mitsuba.convert):
+      cornell7d (direct lighting, 121 spp), blue_spheres9d (path tracing without NEE, 121 spp) and
+      interior_deep (path tracing with NEE, MIS and Russian roulette, 64 spp): oas-render-bench
+      (GPU, lavapipe) and oas-render --device cpu against Mitsuba's `orthogonal` and
+      `independent` samplers with its `direct` or `path` integrator.
 
 Mitsuba is optional: with --no-mitsuba REASON (mitsuba_peer.sh passes it when Mitsuba cannot be
 installed) this prints the reason and our figures alone. Only the standard library is needed then.
@@ -25,10 +27,17 @@ import sys
 import tempfile
 import time
 
-SPP = 121  # 11^2: Mitsuba's orthogonal sampler needs a prime squared
+SPP = 121  # (a)'s samples per pixel, 11^2: Mitsuba's orthogonal sampler needs a prime squared
 DIMS = 8
 GEN_PIXELS = 16384
 RENDER_SIZE = 256
+# (b)'s scenes (scenes/<name>.json) and samples per pixel, in the order they are measured. The
+# counts are oas-render-bench's (kBenchScenes in bench/render_bench.cpp), whose rows are our GPU
+# figures; every side renders at that count (checked against the bench's spp column), so
+# blue_spheres9d runs at 121, not its file's 128. Mitsuba's `orthogonal` takes a prime squared
+# only (it rounds anything else up: 64 -> 121), so it renders at the prime square nearest to this
+# count (nearest_prime_square) and its Mpaths/s counts the paths it traced.
+RENDER_SCENES = [("cornell7d", 121), ("blue_spheres9d", 121), ("interior_deep", 64)]
 
 # oas-bench rows (label prefixes) and the Mitsuba sampler each is compared with. Ours run per
 # sampler name (--only matches the construction name, not the label), so the filters below pick
@@ -154,20 +163,20 @@ def our_kernel_stores(repo):
         return None
 
 
-def run_oas_render_bench(binaries, scene_dir, size):
-    """Our GPU Mpaths/s for cornell7d: (OA, random).
+def run_oas_render_bench(binaries, scene_dir, size, name, spp):
+    """Our GPU Mpaths/s for one scene: (OA, random).
 
-    oas-render-bench renders a fixed list of scenes from --scenes and then cornell7d's effect
-    variants; we only need its cornell7d row, so it gets a directory holding cornell7d alone and
-    is stopped as soon as that row is out (it would otherwise stop at the next, missing scene)."""
+    oas-render-bench renders its fixed list of scenes (--only picks ours by file name) and then
+    cornell7d's effect variants (--no-effects skips them); it is stopped as soon as our row is out.
+    Its sample count is its own, so the row's spp column is checked against ours."""
     cmd = [os.path.join(binaries, "oas-render-bench"), "--scenes", scene_dir, "--size", str(size),
-           "--only", "cornell7d", "--no-effects"]
+           "--only", name, "--no-effects"]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     text, stopped = "", False
     try:
         for line in proc.stdout:
             text += line
-            if line.startswith("cornell7d "):
+            if line.startswith(f"{name} "):
                 break
     finally:
         if proc.poll() is None:
@@ -177,9 +186,12 @@ def run_oas_render_bench(binaries, scene_dir, size):
         proc.wait()
         proc.stdout.close()
         proc.stderr.close()
-    row = parse_table(text, "scene", RENDER_BENCH_COLUMNS).get("cornell7d gpu")
+    row = parse_table(text, "scene", RENDER_BENCH_COLUMNS).get(f"{name} gpu")
     if row is None:
-        raise RuntimeError(f"oas-render-bench printed no cornell7d row:\n{text}{errors[-2000:]}")
+        raise RuntimeError(f"oas-render-bench printed no {name} row:\n{text}{errors[-2000:]}")
+    if number(row.get("spp")) != spp:
+        raise RuntimeError(f"oas-render-bench renders {name} at {row.get('spp')} spp, this script at {spp}: "
+                           "update RENDER_SCENES to match bench/render_bench.cpp")
     return number(row.get("OA Mpaths/s")), number(row.get("rnd Mpaths/s"))
 
 
@@ -194,9 +206,23 @@ def cpu_render_command(binaries):
     return exe if re.search(r"--device\b.*cpu", helptext) else None
 
 
-def run_oas_render_cpu(exe, scene_path, sampler, out_dir):
-    out = os.path.join(out_dir, f"oas-cpu-{sampler}.exr")
-    cmd = [exe, scene_path, "--device", "cpu", "--spp", str(SPP), "-o", out]
+def our_oa_choice(exe, scene_path, spp):
+    """The construction our `oa` sampler picks for the scene at spp (oas-render --explain), for the
+    table's label; None where it cannot be asked."""
+    if exe is None:
+        return None
+    try:
+        text = run_tool([exe, scene_path, "--spp", str(spp), "--explain"])
+    except (OSError, RuntimeError):
+        return None
+    m = re.search(r"^sampler: chose (.+?),", text, re.M)
+    return m.group(1) if m else None
+
+
+def run_oas_render_cpu(exe, scene_path, sampler, spp, out_dir):
+    name = os.path.splitext(os.path.basename(scene_path))[0]
+    out = os.path.join(out_dir, f"oas-cpu-{name}-{sampler}.exr")
+    cmd = [exe, scene_path, "--device", "cpu", "--spp", str(spp), "-o", out]
     if sampler != "oa":
         cmd += ["--sampler", sampler]
     text = run_tool(cmd)
@@ -207,8 +233,8 @@ def run_oas_render_cpu(exe, scene_path, sampler, out_dir):
 
 
 def scaled_scene(scene_path, size, out_dir):
-    """cornell7d at `size` pixels wide (oas-render has no size option; the benches rescale the
-    same way: height keeps the aspect)."""
+    """A scene at `size` pixels wide (the benches rescale the same way: height keeps the aspect),
+    written to out_dir for oas-render and oas-render-bench."""
     with open(scene_path) as f:
         scene = json.load(f)
     w, h = scene["resolution"]
@@ -218,6 +244,18 @@ def scaled_scene(scene_path, size, out_dir):
     with open(path, "w") as f:
         json.dump(scene, f, indent=1)
     return path, scene
+
+
+def nearest_prime_square(n):
+    """The square of a prime nearest to n (the larger one on a tie): what Mitsuba's `orthogonal`
+    sampler can render (strength-2 Bose arrays of p^2 runs, p prime)."""
+    def is_prime(k):
+        return k >= 2 and all(k % d for d in range(2, int(math.isqrt(k)) + 1))
+    below = max((p * p for p in range(2, math.isqrt(n) + 1) if is_prime(p)), default=None)
+    p = 2
+    while p * p < n or not is_prime(p):
+        p += 1
+    return below if below is not None and n - below < p * p - n else p * p
 
 
 # ----------------------------------------------------------------------------- Mitsuba
@@ -290,15 +328,21 @@ class Mitsuba:
         except TypeError:
             return T.look_at(origin=origin, target=target, up=up)
 
-    def convert(self, scene, sampler):
-        """Our scene JSON (scenes/README.md) as a Mitsuba scene dict; returns (dict, notes).
+    def convert(self, scene, sampler, spp):
+        """Our scene JSON (scenes/README.md; exact meanings in shaders/pt/) as a Mitsuba scene dict
+        whose sensor renders with `sampler` at `spp`; returns (dict, notes).
 
-        Covers what cornell7d uses and refuses the rest, so a silent mismatch cannot creep in."""
+        Covers what cornell7d, blue_spheres9d and interior_deep use and refuses the rest, so a
+        silent mismatch cannot creep in. Each note names a difference that remains: Mitsuba does
+        other work there, or renders a slightly different image."""
         mi = self.mi
         notes = []
 
         def grey(c):  # "one number means grey" (scenes/README.md)
             return [float(c)] * 3 if isinstance(c, (int, float)) else [float(x) for x in c]
+
+        def rgb(c):
+            return {"type": "rgb", "value": grey(c)}
         w, h = scene["resolution"]
         cam = scene["camera"]
         shutter = scene.get("shutter", {})
@@ -308,51 +352,154 @@ class Mitsuba:
             "fov": float(cam["fovY"]),
             "fov_axis": "y",
             "to_world": self._look_at(mi, cam["position"], cam["lookAt"], cam.get("up", [0, 1, 0])),
-            # Keeping the shutter open makes Mitsuba draw a time sample like ours (7 dims), even
-            # though nothing in its scene moves (see the sphere below).
+            # Keeping the shutter open makes Mitsuba draw a time sample like ours, even though
+            # nothing in its scene moves (see the shapes below).
             "shutter_open": t_open,
             "shutter_close": t_close,
             "film": {"type": "hdrfilm", "width": w, "height": h, "pixel_format": "rgb",
                      # Ours adds each sample to its own pixel: a box filter.
                      "rfilter": {"type": "box"}},
-            "sampler": {"type": sampler, "sample_count": SPP},
+            "sampler": {"type": sampler, "sample_count": spp},
         }
         if sensor["type"] == "thinlens":
             sensor["aperture_radius"] = float(cam["apertureRadius"])
             dist = [b - a for a, b in zip(cam["position"], cam["lookAt"])]
             sensor["focus_distance"] = float(cam.get("focusDistance", math.sqrt(sum(d * d for d in dist))))
 
+        # Materials (shaders/pt/pt_bsdf.glsl). Alpha below PT_SMOOTH_ALPHA is a delta lobe in ours.
+        smooth_alpha = 1e-3
         materials = {}
+        kinds = set()
         for m in scene["materials"]:
-            if m.get("type", "diffuse") != "diffuse":
-                raise ValueError(f"material {m['name']}: only diffuse is converted")
-            # Ours scatters on both sides of every surface; Mitsuba's diffuse is one-sided.
-            bsdf = {"type": "twosided", "material": {
-                "type": "diffuse", "reflectance": {"type": "rgb", "value": grey(m.get("albedo", 0.8))}}}
+            kind = m.get("type", "diffuse")
+            alpha = float(m.get("roughness", 0))
+            if kind == "diffuse":
+                inner = {"type": "diffuse", "reflectance": rgb(m.get("albedo", 0.8))}
+            elif kind == "conductor":
+                # Ours: GGX D, separable Smith G1(wo) G1(wi), Schlick Fresnel with F0 = albedo.
+                # Mitsuba's conductors have no Schlick Fresnel: material "none" is a perfect
+                # reflector (F = 1) scaled by specular_reflectance, i.e. F = F0 at every angle.
+                # (A conductor with eta = (1 + sqrt F0) / (1 - sqrt F0), k = 0 is further from
+                # Schlick's hemispherical average for F0 >= 0.3; `principled` with metallic 1 has
+                # Schlick's Fresnel but evaluates more lobes: not the same work.)
+                inner = {"type": "conductor", "material": "none",
+                         "specular_reflectance": rgb(m.get("albedo", 0.9))}
+                if alpha >= smooth_alpha:
+                    inner.update({"type": "roughconductor", "distribution": "ggx", "alpha": alpha})
+            elif kind == "dielectric":
+                # ior is inside over outside; Mitsuba's ext_ior defaults to air (1.000277), ours is 1.
+                tint = rgb(m.get("albedo", 1))
+                inner = {"type": "dielectric", "int_ior": float(m.get("ior", 1.5)), "ext_ior": 1.0,
+                         "specular_reflectance": tint, "specular_transmittance": tint}
+                if alpha >= smooth_alpha:
+                    inner.update({"type": "roughdielectric", "distribution": "ggx", "alpha": alpha})
+            else:
+                raise ValueError(f"material {m['name']}: type {kind} is not converted")
+            kinds.add((kind, alpha >= smooth_alpha))
+            # Ours scatters on both sides of every surface (n is flipped to face wo); Mitsuba's
+            # diffuse and conductors are one-sided: `twosided` does the same. A dielectric has two
+            # sides already.
+            bsdf = inner if kind == "dielectric" else {"type": "twosided", "material": inner}
             materials[m["name"]] = (bsdf, grey(m.get("emission", 0)))
 
         out = {"type": "scene", "sensor": sensor}
         integ = scene.get("integrator", {})
-        if integ.get("type") != "direct" or not integ.get("nextEventEstimation", True) or integ.get("mis", True):
-            raise ValueError("only the direct integrator with NEE and without MIS is converted")
-        # One light sample and no BSDF sample per hit: Mitsuba's MIS weight is then 1, i.e. NEE
-        # without MIS; emitters seen directly are still added, as ours does.
-        out["integrator"] = {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0}
-        env = grey(scene.get("environment", 0))
-        if any(env):
-            out["environment"] = {"type": "constant", "radiance": {"type": "rgb", "value": env}}
-        if scene.get("lights"):
-            raise ValueError("point and spot lights are not converted")
+        itype = integ.get("type", "path")
+        nee = integ.get("nextEventEstimation", True)
+        mis = integ.get("mis", nee)
+        if itype == "direct":
+            if not nee:
+                raise ValueError("the direct integrator without next-event estimation is not converted")
+            # One light sample per hit, and a BSDF sample only for MIS: with bsdf_samples 0
+            # Mitsuba's MIS weight is 1, i.e. NEE without MIS; emitters seen directly are still
+            # added, as ours does.
+            out["integrator"] = {"type": "direct", "emitter_samples": 1, "bsdf_samples": 1 if mis else 0}
+        elif itype == "path":
+            depth = int(integ.get("maxDepth", 5))
+            rr = int(integ.get("rouletteStartDepth", 0))
+            # Ours: maxDepth counts path vertices x1..xD; with NEE each samples the lights, so
+            # paths scatter up to D times; without NEE the last vertex only collects emission
+            # (up to D - 1 scatterings). Mitsuba's max_depth counts segments: 1 = emission seen
+            # directly, 2 = one scattering (direct lighting).
+            max_depth = depth + 1 if nee else depth
+            # Both roll after the BSDF sample at vertex k >= start (ours pt_integrator.glsl,
+            # Mitsuba `depth >= rr_depth` after its increment); ours 0 = never, which Mitsuba's
+            # max_depth makes unreachable.
+            out["integrator"] = {"type": "path", "max_depth": max_depth,
+                                 "rr_depth": rr if rr > 0 else max_depth}
+            if not nee:
+                notes.append(f"ours traces without next-event estimation (lights are found only by "
+                             f"hitting them, maxDepth {depth} = up to {depth - 1} scatterings); Mitsuba's "
+                             f"`path` (max_depth {max_depth}, the same paths) always samples an emitter at "
+                             "every non-delta vertex and weights it by MIS against BSDF sampling: the same "
+                             "expected image with less noise, but a shadow ray and a light-pdf evaluation "
+                             "more per vertex")
+            elif not mis:
+                notes.append("ours does next-event estimation without MIS; Mitsuba's `path` always weights "
+                             "it by MIS against BSDF sampling (the same expected image, other work)")
+            if rr > 0:
+                notes.append(f"Russian roulette from vertex {rr} in both: ours survives with "
+                             "min(max(throughput), 0.95), Mitsuba with min(max(throughput) * eta^2, 0.95) "
+                             "(eta: relative IOR accumulated through refractions), and Mitsuba rolls at "
+                             "the last vertex too (noise only; the expected image is the same)")
+        else:
+            raise ValueError(f"integrator type {itype} is not converted")
 
+        env = grey(scene.get("environment", 0))
+        if nee and not mis:
+            # Ours then takes no BSDF sample at the last vertex: light that only BSDF sampling
+            # finds (the environment, emitters seen through a delta lobe) is missing there, where
+            # Mitsuba, which samples the BSDF at every vertex, has it: a different image.
+            if any(env):
+                raise ValueError("an environment with NEE but without MIS is not converted (ours never "
+                                 "light-samples it, and takes no BSDF sample at the last vertex)")
+            if any(k == "dielectric" or (k == "conductor" and not rough) for k, rough in kinds):
+                raise ValueError("delta and dielectric materials with NEE but without MIS are not converted "
+                                 "(ours takes no BSDF sample at the last vertex)")
+        if any(env):
+            out["environment"] = {"type": "constant", "radiance": rgb(env)}
+            notes.append("ours never light-samples the constant environment (it is added when a "
+                         "BSDF-sampled ray escapes); Mitsuba samples it as one of its emitters "
+                         "(the same expected image, other work)")
+        for i, light in enumerate(scene.get("lights", [])):
+            if light["type"] != "point":
+                raise ValueError(f"light {i}: type {light['type']} is not converted")
+            if not nee:
+                raise ValueError(f"light {i}: point lights without NEE are not converted (they add "
+                                 "nothing in ours; Mitsuba would light-sample them)")
+            # Radiant intensity (W/sr), a delta: only light sampling reaches it, in both.
+            out[f"light{i:02d}"] = {"type": "point", "position": [float(x) for x in light["position"]],
+                                    "intensity": rgb(light["intensity"])}
+        if ("conductor", True) in kinds or ("conductor", False) in kinds:
+            notes.append("conductors: ours uses Schlick's Fresnel with F0 = albedo (F0 at normal "
+                         "incidence, rising to 1 at grazing angles); Mitsuba's `roughconductor`/"
+                         "`conductor` has no Schlick Fresnel, so it gets material \"none\" scaled by "
+                         "specular_reflectance = albedo: F = F0 at every angle (a cosine-weighted "
+                         "hemispherical average 0.002-0.04 lower for F0 in 0.15-0.95; darker at grazing "
+                         "angles). GGX D and the separable Smith G are the same; Mitsuba samples "
+                         "visible normals, ours D(m) cos(m) (noise only)")
+        if ("dielectric", True) in kinds and nee:
+            notes.append("rough dielectrics: ours treats them like delta lobes (no light sampling at "
+                         "their vertices; emitters their BSDF samples hit count fully); Mitsuba's "
+                         "`roughdielectric` is light-sampled with MIS (the same expected image, other work)")
+
+        triangles = {}  # material -> [(p0, p1, p2)]: one Mitsuba mesh per material
         for i, s in enumerate(scene["shapes"]):
             bsdf, emission = materials[s["material"]]
-            vel = s.get("velocity", [0, 0, 0])
+            vel = [float(x) for x in s.get("velocity", [0, 0, 0])]
             if any(vel) and t_close > t_open:
                 notes.append(f"shape {i} ({s['type']}) moves with velocity {vel} in ours but is static in "
-                             "Mitsuba at its t = 0 position (Mitsuba 3 has no animated shapes): "
+                             f"Mitsuba at its t = {t_open:g} position (Mitsuba 3 has no animated shapes): "
                              "Mitsuba's scene has no motion blur")
+            # Ours puts a shape at time t at its stated geometry + velocity * t; with open == close
+            # every ray has t = open, so that is where Mitsuba's static shape goes (t = 0 here).
+            shift = [v * t_open for v in vel]
+
+            def moved(point):
+                return [float(x) + d for x, d in zip(point, shift)]
             if s["type"] in ("quad", "rectangle"):
-                c, eu, ev = ([float(x) for x in s[k]] for k in ("corner", "edgeU", "edgeV"))
+                c = moved(s["corner"])
+                eu, ev = ([float(x) for x in s[k]] for k in ("edgeU", "edgeV"))
                 n = [eu[1] * ev[2] - eu[2] * ev[1], eu[2] * ev[0] - eu[0] * ev[2], eu[0] * ev[1] - eu[1] * ev[0]]
                 ln = math.sqrt(sum(x * x for x in n))
                 n = [x / ln for x in n]
@@ -363,27 +510,53 @@ class Mitsuba:
                 m = [[eu[k] / 2, ev[k] / 2, n[k], centre[k]] for k in range(3)] + [[0, 0, 0, 1]]
                 shape = {"type": "rectangle", "to_world": mi.ScalarTransform4f(m)}
             elif s["type"] == "sphere":
-                shape = {"type": "sphere", "center": [float(x) for x in s["center"]],
-                         "radius": float(s["radius"])}
+                shape = {"type": "sphere", "center": moved(s["center"]), "radius": float(s["radius"])}
+            elif s["type"] == "triangle":
+                triangles.setdefault(s["material"], []).append([moved(s[k]) for k in ("p0", "p1", "p2")])
+                continue
             else:
                 raise ValueError(f"shape {i}: type {s['type']} is not converted")
             shape["bsdf"] = bsdf
             if any(emission):
                 # Mitsuba's area emitter emits on the front side only, like ours.
-                shape["emitter"] = {"type": "area", "radiance": {"type": "rgb", "value": emission}}
+                shape["emitter"] = {"type": "area", "radiance": rgb(emission)}
             out[f"shape{i:02d}"] = shape
+        for k, (name, tris) in enumerate(triangles.items()):
+            out[f"triangles{k:02d}"] = self._triangle_mesh(f"triangles-{name}", tris, *materials[name])
         return out, notes
 
-    def load_scene(self, scene, sampler):
-        d, notes = self.convert(scene, sampler)
-        return self.mi.load_dict(d), notes
+    def _triangle_mesh(self, name, tris, bsdf, emission):
+        """Triangles as one Mitsuba mesh with face normals: Mitsuba's face normal is
+        normalize(cross(p1 - p0, p2 - p0)), ours too (scenes/README.md), so front sides agree.
+        An emitting mesh is one area light to Mitsuba (sampled by area) where ours has one light per
+        triangle (chosen uniformly): the same expected image."""
+        mi = self.mi
+        props = mi.Properties()
+        props["bsdf"] = mi.load_dict(bsdf)
+        if any(emission):
+            props["emitter"] = mi.load_dict({"type": "area", "radiance": {"type": "rgb", "value": emission}})
+        props["face_normals"] = True
+        mesh = mi.Mesh(name, 3 * len(tris), len(tris), props=props)
+        params = mi.traverse(mesh)
+        params["vertex_positions"] = mi.Float([x for t in tris for p in t for x in p])
+        params["faces"] = mi.UInt32(list(range(3 * len(tris))))
+        params.update()
+        return mesh
 
-    def render(self, mscene, seed, label="render"):
-        """(seconds, image) for one render at SPP, waiting for the result."""
+    def load_scene(self, scene, sampler, spp):
+        d, notes = self.convert(scene, sampler, spp)
+        mscene = self.mi.load_dict(d)
+        used = mscene.sensors()[0].sampler().sample_count()
+        if used != spp:
+            raise RuntimeError(f"Mitsuba's {sampler} renders {used} spp where {spp} were asked")
+        return mscene, notes
+
+    def render(self, mscene, spp, seed, label="render"):
+        """(seconds, image) for one render at spp, waiting for the result."""
         dr, mi = self.dr, self.mi
         dr.kernel_history()
         start = time.perf_counter()
-        image = mi.render(mscene, spp=SPP, seed=seed)
+        image = mi.render(mscene, spp=spp, seed=seed)
         dr.eval(image)
         dr.sync_thread()
         seconds = time.perf_counter() - start
@@ -440,47 +613,111 @@ def measure_generation(args, mitsuba):
     return ours, theirs, device
 
 
-def measure_rendering(args, mitsuba, tmp):
-    scene_src = os.path.join(args.scenes, "cornell7d.json")
+def measure_rendering(args, mitsuba, tmp, name, spp):
+    """One scene of (b): our GPU and CPU figures and Mitsuba's, interleaved per repeat."""
+    scene_src = os.path.join(args.scenes, f"{name}.json")
     bench_dir = os.path.join(tmp, "bench-scenes")
     scene_path, scene = scaled_scene(scene_src, args.size, bench_dir)
     cpu_exe = cpu_render_command(args.binaries)
-    paths = args.size * scene["resolution"][1] * SPP
+    pixels = scene["resolution"][0] * scene["resolution"][1]
+    # The sample count each Mitsuba sampler renders at (see RENDER_SCENES).
+    theirs_spp = {n: nearest_prime_square(spp) if n == "orthogonal" else spp for n in MITSUBA_RENDER_SAMPLERS}
     ours = {"gpu_oa": [], "gpu_rnd": [], "cpu_oa": [], "cpu_rnd": []}
     theirs = {n: [] for n in MITSUBA_RENDER_SAMPLERS}
     notes, our_exr, images = [], None, {}
     mscenes = {}
     if mitsuba:
+        mark = len(mitsuba.cache_misses)  # the warm-up runs' misses are dropped below
         for n in MITSUBA_RENDER_SAMPLERS:
-            mscenes[n], notes = mitsuba.load_scene(scene, n)
-            _, images[n] = mitsuba.render(mscenes[n], seed=0)  # compiles the kernel: untimed
-        mitsuba.cache_misses.clear()
+            mscenes[n], notes = mitsuba.load_scene(scene, n, theirs_spp[n])
+            # Untimed warm-ups that compile the kernel. Two: the timed runs' kernel can differ from
+            # the first render's (seen with `orthogonal`: every quick run's one timed render compiled).
+            for seed in (0, 1 << 20):
+                _, images[n] = mitsuba.render(mscenes[n], theirs_spp[n], seed=seed)
+        del mitsuba.cache_misses[mark:]
 
     def run_ours():
         nonlocal our_exr
-        oa, rnd = run_oas_render_bench(args.binaries, bench_dir, args.size)
+        oa, rnd = run_oas_render_bench(args.binaries, bench_dir, args.size, name, spp)
         ours["gpu_oa"].append(oa)
         ours["gpu_rnd"].append(rnd)
         if cpu_exe:
-            m, our_exr = run_oas_render_cpu(cpu_exe, scene_path, "oa", tmp)
+            m, our_exr = run_oas_render_cpu(cpu_exe, scene_path, "oa", spp, tmp)
             ours["cpu_oa"].append(m)
-            ours["cpu_rnd"].append(run_oas_render_cpu(cpu_exe, scene_path, "random", tmp)[0])
+            ours["cpu_rnd"].append(run_oas_render_cpu(cpu_exe, scene_path, "random", spp, tmp)[0])
 
     def run_theirs(rep):
         for n in MITSUBA_RENDER_SAMPLERS:
-            seconds, images[n] = mitsuba.render(mscenes[n], seed=rep + 1, label=f"render {n}")
-            theirs[n].append(paths / seconds / 1e6)
+            seconds, images[n] = mitsuba.render(mscenes[n], theirs_spp[n], seed=rep + 1, label=f"{name} {n}")
+            theirs[n].append(pixels * theirs_spp[n] / seconds / 1e6)
 
     for rep in range(args.repeats):
         sides = [run_ours] + ([lambda: run_theirs(rep)] if mitsuba else [])
         for side in (sides if rep % 2 == 0 else sides[::-1]):
             side()
-        log(f"  rendering repeat {rep + 1}/{args.repeats} done")
+        log(f"  {name}: rendering repeat {rep + 1}/{args.repeats} done")
 
     check = None
     if mitsuba and our_exr:
         check = (mitsuba.image_means(mitsuba.read_exr(our_exr)), mitsuba.image_means(images["orthogonal"]))
-    return ours, theirs, notes, cpu_exe is not None, check
+    return {"name": name, "spp": spp, "theirs_spp": theirs_spp, "resolution": scene["resolution"],
+            "integrator": scene.get("integrator", {}), "oa_choice": our_oa_choice(cpu_exe, scene_path, spp),
+            "ours": ours, "theirs": theirs, "notes": notes, "have_cpu": cpu_exe is not None, "check": check}
+
+
+def describe_integrator(integ):
+    """Our integrator settings in words, for (b)'s headings."""
+    if integ.get("type", "path") == "direct":
+        return "direct lighting" + (", NEE + MIS" if integ.get("mis", True) else ", NEE without MIS")
+    nee = integ.get("nextEventEstimation", True)
+    words = [f"path tracing, maxDepth {integ.get('maxDepth', 5)}",
+             ("NEE + MIS" if integ.get("mis", nee) else "NEE without MIS") if nee else "no NEE"]
+    if integ.get("rouletteStartDepth", 0):
+        words.append(f"Russian roulette from vertex {integ['rouletteStartDepth']}")
+    return ", ".join(words)
+
+
+def report_rendering(r, args, mitsuba):
+    w, h = r["resolution"]
+    spp, tspp = r["spp"], r["theirs_spp"]
+    paths = w * h * spp
+    log(f"\n== (b) rendering {r['name']} {w}x{h} x {spp} spp = {paths / 1e6:.2f} M paths, "
+        f"{describe_integrator(r['integrator'])}; Mpaths/s (median of {args.repeats}) ==")
+    log("ours GPU = oas-render-bench (lavapipe; pipeline build and one warm-up untimed); ours CPU = "
+        + ("oas-render --device cpu (reference tracer, all cores)" if r["have_cpu"] else "not available"))
+    if mitsuba:
+        log("theirs = mi.render in one wavefront, warm (kernel cached), waiting for the image; "
+            + ", ".join(f"{n} at {tspp[n]} spp" for n in MITSUBA_RENDER_SAMPLERS)
+            + ("" if tspp["orthogonal"] == spp else
+               f" (orthogonal needs a prime squared: {tspp['orthogonal']} is the nearest to {spp}; "
+               f"its Mpaths/s counts the {w * h * tspp['orthogonal'] / 1e6:.2f} M paths it traced)"))
+    oa = f"OA (ours oa = {r['oa_choice']})" if r["oa_choice"] else "OA (ours oa)"
+    rows = [(oa, "gpu_oa", "cpu_oa", "orthogonal"), ("random", "gpu_rnd", "cpu_rnd", "independent")]
+    width = max(24, len(oa))
+    head = f"{'sampler':<{width}} {'ours GPU':>9} {'ours CPU':>9}"
+    if mitsuba:
+        head += f"  {'Mitsuba':<12} {'theirs':>8}  {'GPU/theirs':>10} {'CPU/theirs':>10}"
+        log("ratios: median over repeats of ours/theirs within each interleaved pair")
+    log(head)
+    r_ours, r_theirs = r["ours"], r["theirs"]
+    for label, kg, kc, tn in rows:
+        gpu, cpu = median(r_ours[kg]), median(r_ours[kc])
+        line = f"{label:<{width}} {fmt(gpu, 3):>9} {fmt(cpu, 3):>9}"
+        if mitsuba:
+            ths = r_theirs[tn]
+            line += (f"  {tn:<12} {fmt(median(ths), 3):>8}  {fmt(paired_ratio(r_ours[kg], ths), 3):>10} "
+                     f"{fmt(paired_ratio(r_ours[kc], ths), 3):>10}")
+        log(line)
+    for n in r["notes"]:
+        log(f"note: {n}")
+    if r["check"]:
+        (o_mean, o_r, o_g), (t_mean, t_r, t_g) = r["check"]
+        ratio = sum(o_mean) / sum(t_mean) if sum(t_mean) else float("nan")
+        log("image check (ours CPU OA vs Mitsuba orthogonal, last renders): mean RGB "
+            f"{' '.join(f'{v:.4f}' for v in o_mean)} vs {' '.join(f'{v:.4f}' for v in t_mean)} "
+            f"(ours/theirs {ratio:.3f}); "
+            f"red left/right {o_r[0]:.3f}/{o_r[1]:.3f} vs {t_r[0]:.3f}/{t_r[1]:.3f}; "
+            f"green left/right {o_g[0]:.3f}/{o_g[1]:.3f} vs {t_g[0]:.3f}/{t_g[1]:.3f}")
 
 
 # ----------------------------------------------------------------------------- report
@@ -525,15 +762,20 @@ def main():
     try:
         log(f"(a) sample generation: {args.gen_pixels} pixels x {SPP} spp x {DIMS} dims")
         g_ours, g_theirs, device = measure_generation(args, mitsuba)
-        log(f"(b) rendering cornell7d at {args.size} px wide, {SPP} spp, direct lighting")
-        r_ours, r_theirs, notes, have_cpu, check = measure_rendering(args, mitsuba, tmp)
+        renders = []
+        for name, spp in RENDER_SCENES:
+            log(f"(b) rendering {name} at {args.size} px wide, {spp} spp")
+            renders.append(measure_rendering(args, mitsuba, tmp, name, spp))
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"generation": {"ours": {p: {"gpu": v[0], "cpu": v[1]} for p, v in g_ours.items()},
                                       "theirs": {f"{n} {m}": v for (n, m), v in g_theirs.items()}},
-                       "rendering": {"ours": r_ours, "theirs": r_theirs}}, f, indent=1)
+                       "rendering": {r["name"]: {"spp": r["spp"], "resolution": r["resolution"],
+                                                 "mitsuba_spp": r["theirs_spp"], "ours": r["ours"],
+                                                 "theirs": r["theirs"], "notes": r["notes"]}
+                                     for r in renders}}, f, indent=1)
 
     stores = our_kernel_stores(repo)
     log(f"\n== (a) sample generation, M sample-dims/s (median of {args.repeats}) ==")
@@ -562,40 +804,12 @@ def main():
     if mitsuba:
         log("pairs: " + "; ".join(f"{p} ~ {t}: {why}" for p, t, why in GEN_PAIRS))
 
-    paths = args.size * args.size * SPP
-    log(f"\n== (b) rendering cornell7d {args.size}x{args.size} x {SPP} spp = {paths / 1e6:.2f} M paths, "
-        f"Mpaths/s (median of {args.repeats}) ==")
-    log("ours GPU = oas-render-bench (lavapipe; pipeline build and one warm-up untimed); ours CPU = "
-        + ("oas-render --device cpu (reference tracer, all cores)" if have_cpu else "not available"))
-    if mitsuba:
-        log("theirs = mi.render at 121 spp in one wavefront, warm (kernel cached), waiting for the image")
-    rows = [("OA (ours oa = bose cmj)", "gpu_oa", "cpu_oa", "orthogonal"),
-            ("random", "gpu_rnd", "cpu_rnd", "independent")]
-    head = f"{'sampler':<24} {'ours GPU':>9} {'ours CPU':>9}"
-    if mitsuba:
-        head += f"  {'Mitsuba':<12} {'theirs':>8}  {'GPU/theirs':>10} {'CPU/theirs':>10}"
-        log("ratios: median over repeats of ours/theirs within each interleaved pair")
-    log(head)
-    for label, kg, kc, tn in rows:
-        gpu, cpu = median(r_ours[kg]), median(r_ours[kc])
-        line = f"{label:<24} {fmt(gpu, 3):>9} {fmt(cpu, 3):>9}"
-        if mitsuba:
-            ths = r_theirs[tn]
-            line += (f"  {tn:<12} {fmt(median(ths), 3):>8}  {fmt(paired_ratio(r_ours[kg], ths), 3):>10} "
-                     f"{fmt(paired_ratio(r_ours[kc], ths), 3):>10}")
-        log(line)
-    for n in notes:
-        log(f"note: {n}")
-    if check:
-        (o_mean, o_r, o_g), (t_mean, t_r, t_g) = check
-        log("image check (ours CPU OA vs Mitsuba orthogonal, last renders): mean RGB "
-            f"{' '.join(f'{v:.4f}' for v in o_mean)} vs {' '.join(f'{v:.4f}' for v in t_mean)}; "
-            f"red left/right {o_r[0]:.3f}/{o_r[1]:.3f} vs {t_r[0]:.3f}/{t_r[1]:.3f}; "
-            f"green left/right {o_g[0]:.3f}/{o_g[1]:.3f} vs {t_g[0]:.3f}/{t_g[1]:.3f}")
+    for r in renders:
+        report_rendering(r, args, mitsuba)
     if mitsuba:
         # Warm-up runs are untimed, so a timed run should always find its kernel cached.
         misses = mitsuba.cache_misses
-        log(f"Mitsuba timed runs whose kernel was not cached in memory: {len(misses)}"
+        log(f"\nMitsuba timed runs ((a) and (b)) whose kernel was not cached in memory: {len(misses)}"
             + (f" ({'; '.join(misses)}; medians absorb single outliers)" if misses else ""))
 
 
