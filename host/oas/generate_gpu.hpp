@@ -37,8 +37,8 @@ private:
     vk::ComputePipeline& pipelineFor(const Pattern& pattern);
     vk::Context& context_;
     Kernel kernel_;
-    /// One pipeline per (construction, offset, field kind) specialisation, made on first use.
-    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>, std::unique_ptr<vk::ComputePipeline>> pipelines_;
+    /// One pipeline per (construction, offset, field kind, field degree) specialisation, made on first use.
+    std::map<decltype(specializationKey(Pattern{})), std::unique_ptr<vk::ComputePipeline>> pipelines_;
     std::unique_ptr<vk::Buffer> buffer_;
     std::unique_ptr<vk::Buffer> sobol_;  ///< Sobol direction numbers (binding 1)
     std::uint64_t maxPointsPerDispatch_ = 0;

@@ -67,11 +67,17 @@ inline std::uint32_t fieldKind(const Pattern& p)
 {
     return p.fieldK <= 1 ? 0u : (p.fieldP == 2 ? 1u : 2u);
 }
-/// What a GPU pipeline is specialized on (construction, offset, field kind): two patterns with the
-/// same key run on the same pipeline, the rest of the pattern being push constants.
-inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t> specializationKey(const Pattern& p)
+/// The pattern's field degree for OAS_STATIC_FIELD_DEGREE specialization: k of GF(p^k), 1 when
+/// the pattern has no field (its field loops are never reached).
+inline std::uint32_t fieldDegree(const Pattern& p)
 {
-    return {p.construction, p.offset, fieldKind(p)};
+    return p.fieldK <= 1 ? 1u : p.fieldK;
+}
+/// What a GPU pipeline is specialized on (construction, offset, field kind, field degree): two
+/// patterns with the same key run on the same pipeline, the rest of the pattern being push constants.
+inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t> specializationKey(const Pattern& p)
+{
+    return {p.construction, p.offset, fieldKind(p), fieldDegree(p)};
 }
 
 /// Sobol direction numbers, OAS_SOBOL_BLOCK_DIMS (1024) dimensions x 32 bits, [dim * 32 + bit], bit 0

@@ -97,10 +97,10 @@
 //     correlated multi-jitter, which converges like N^-1.5 on smooth integrands that differ
 //     between opposite edges of the pair's square (N^-3 on periodic ones); MJ offsets give N^-2
 //     on both (docs/STUDY.md). Prefer MJ for smooth, non-periodic pairs.
-//   - Specialise the shader on the pattern kind (OAS_STATIC_CONSTRUCTION / _OFFSET / _FIELD_KIND,
-//     e.g. from specialization constants, see oas_pattern.glsl) for speed: lavapipe runs both
-//     sides of every branch, so an unspecialised shader pays for every construction's code.
-//     Correctness does not depend on it.
+//   - Specialise the shader on the pattern kind (OAS_STATIC_CONSTRUCTION / _OFFSET / _FIELD_KIND /
+//     _FIELD_DEGREE, e.g. from specialization constants, see oas_pattern.glsl) for speed: lavapipe
+//     runs both sides of every branch, so an unspecialised shader pays for every construction's
+//     code, and for field loops as long as the largest field's. Correctness does not depend on it.
 //   - Fixed work. Each loop's trip count is the largest case the numeric contract allows: 12 bits
 //     of a GF(2^k) element, 5 digits of an odd extension field's element, t <= 8 Bush digits, 12
 //     exponent bits of an inverse, 5 exponent bits of CMJND's digit place, 24 bits of a (0,2)

@@ -34,6 +34,16 @@ const uint OAS_FIELD_ODD_EXTENSION = 2u; ///< p odd, k > 1
 #define OAS_FIELD_IS_PRIME(f) ((f).k == 1u)
 #define OAS_FIELD_IS_BINARY(f) ((f).p == 2u)
 #endif
+// The field's degree k, fixed at compile time by OAS_STATIC_FIELD_DEGREE (see oas_pattern.glsl):
+// the digit and bit loops below run OAS_GF_MAX_*_K steps, and steps at or past k do nothing, so a
+// step is skipped when its place is >= OAS_FIELD_DEGREE(f). With the degree a compile-time
+// constant those steps fold away (GF(3^2) runs 2 of 5 steps, GF(2^3) 3 of 12); without it the
+// test costs a compare per step on a GPU, and on a CPU it skips the step's work.
+#ifdef OAS_STATIC_FIELD_DEGREE
+#define OAS_FIELD_DEGREE(f) OAS_STATIC_FIELD_DEGREE
+#else
+#define OAS_FIELD_DEGREE(f) ((f).k)
+#endif
 
 /// The largest degrees the constructions use: every OA has N >= q^2 and N <= 2^24, so q <= 4096,
 /// which is 2^12 and 3^7. The host refuses odd extension fields whose digit slots (below) do not
@@ -64,10 +74,12 @@ uint oas_gf_spread(OasField f, uint a, uint bits)
     uint packed = 0u;
     uint shift = 0u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
-        uint next = oas_gf_divp(f, a);
-        packed |= (a - next * f.p) << shift;  // digits past the field's k are 0
-        a = next;
-        shift = min(shift + bits, 31u);       // stays a valid shift; only zeros go there
+        if (i < OAS_FIELD_DEGREE(f)) {  // digits past the field's k are 0
+            uint next = oas_gf_divp(f, a);
+            packed |= (a - next * f.p) << shift;
+            a = next;
+            shift = min(shift + bits, 31u);  // stays a valid shift; only zeros go there
+        }
     }
     return packed;
 }
@@ -91,24 +103,27 @@ uint oas_gf_mul_add2_odd(OasField f, uint a, uint b, uint y, uint extra)
     uint acc = 0u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
         uint place = OAS_GF_MAX_ODD_K - 1u - i;  // b's digit, most significant first
-        uint digitShift = bits * place;
-        uint digit = place < f.k ? (packedB >> digitShift) & slotMask : 0u;
-        uint top = acc >> topShift;  // the slot of x^(k-1), unreduced
-        top -= oas_gf_divp(f, top) * f.p;
-        acc = ((acc & belowTop) << bits) + top * packedG + digit * packedA;
+        if (place < OAS_FIELD_DEGREE(f)) {       // above k: a zero digit into a zero acc
+            uint digit = (packedB >> (bits * place)) & slotMask;
+            uint top = acc >> topShift;  // the slot of x^(k-1), unreduced
+            top -= oas_gf_divp(f, top) * f.p;
+            acc = ((acc & belowTop) << bits) + top * packedG + digit * packedA;
+        }
     }
     // Reduce every slot mod p, add y's and extra's digits, and read the digits back out base p.
     uint result = 0u;
     uint power = 1u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
-        uint yNext = oas_gf_divp(f, y);
-        uint extraNext = oas_gf_divp(f, extra);
-        uint slot = (acc & slotMask) + (y - yNext * f.p) + (extra - extraNext * f.p);
-        result += (slot - oas_gf_divp(f, slot) * f.p) * power;  // past k: 0 * an unused power
-        acc >>= bits;
-        power *= f.p;
-        y = yNext;
-        extra = extraNext;
+        if (i < OAS_FIELD_DEGREE(f)) {  // past k every slot and digit is 0
+            uint yNext = oas_gf_divp(f, y);
+            uint extraNext = oas_gf_divp(f, extra);
+            uint slot = (acc & slotMask) + (y - yNext * f.p) + (extra - extraNext * f.p);
+            result += (slot - oas_gf_divp(f, slot) * f.p) * power;
+            acc >>= bits;
+            power *= f.p;
+            y = yNext;
+            extra = extraNext;
+        }
     }
     return result;
 }
@@ -120,8 +135,11 @@ uint oas_gf_mul_binary(OasField f, uint a, uint b)
     uint r = 0u;
     uint top = f.q >> 1u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_BINARY_K; ++i) {
-        uint bit = (b >> (OAS_GF_MAX_BINARY_K - 1u - i)) & 1u;
-        r = (((r << 1u) & (f.q - 1u)) ^ (r >= top ? f.poly : 0u)) ^ (bit != 0u ? a : 0u);
+        uint place = OAS_GF_MAX_BINARY_K - 1u - i;
+        if (place < OAS_FIELD_DEGREE(f)) {  // b's bits at k and above are 0, and so is r there
+            uint bit = (b >> place) & 1u;
+            r = (((r << 1u) & (f.q - 1u)) ^ (r >= top ? f.poly : 0u)) ^ (bit != 0u ? a : 0u);
+        }
     }
     return r;
 }
@@ -137,13 +155,15 @@ uint oas_gf_add(OasField f, uint a, uint b)
     uint result = 0u;
     uint power = 1u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
-        uint aNext = oas_gf_divp(f, a);
-        uint bNext = oas_gf_divp(f, b);
-        uint d = (a - aNext * f.p) + (b - bNext * f.p);
-        result += (d >= f.p ? d - f.p : d) * power;
-        power *= f.p;
-        a = aNext;
-        b = bNext;
+        if (i < OAS_FIELD_DEGREE(f)) {  // digits past k are 0
+            uint aNext = oas_gf_divp(f, a);
+            uint bNext = oas_gf_divp(f, b);
+            uint d = (a - aNext * f.p) + (b - bNext * f.p);
+            result += (d >= f.p ? d - f.p : d) * power;
+            power *= f.p;
+            a = aNext;
+            b = bNext;
+        }
     }
     return result;
 }
