@@ -47,6 +47,10 @@ inline uint min(uint a, uint b)
 // The library's [[unroll]] marks are GLSL's (GL_EXT_control_flow_attributes); C++ needs none.
 #define OAS_UNROLL
 
+// On a CPU a branch skips work where a GPU would predicate it: the field loops skip the steps
+// past the field's degree (oas_gf.glsl). The values are the same either way.
+#define OAS_SKIP_UNUSED_FIELD_STEPS
+
 // The C++ twin has the Sobol baseline: its direction numbers come from the host's table.
 #define OAS_SOBOL_DIRECTION(dim, bit) (::oas::sobolDirections()[(dim)*32u + (bit)])
 

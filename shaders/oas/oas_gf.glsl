@@ -34,15 +34,19 @@ const uint OAS_FIELD_ODD_EXTENSION = 2u; ///< p odd, k > 1
 #define OAS_FIELD_IS_PRIME(f) ((f).k == 1u)
 #define OAS_FIELD_IS_BINARY(f) ((f).p == 2u)
 #endif
-// The field's degree k, fixed at compile time by OAS_STATIC_FIELD_DEGREE (see oas_pattern.glsl):
-// the digit and bit loops below run OAS_GF_MAX_*_K steps, and steps at or past k do nothing, so a
-// step is skipped when its place is >= OAS_FIELD_DEGREE(f). With the degree a compile-time
-// constant those steps fold away (GF(3^2) runs 2 of 5 steps, GF(2^3) 3 of 12); without it the
-// test costs a compare per step on a GPU, and on a CPU it skips the step's work.
-#ifdef OAS_STATIC_FIELD_DEGREE
-#define OAS_FIELD_DEGREE(f) OAS_STATIC_FIELD_DEGREE
+// Whether the digit or bit step at `place` of a field loop does work: the loops below run
+// OAS_GF_MAX_*_K steps, and steps at or past the field's degree k do nothing. With the degree
+// fixed at compile time (OAS_STATIC_FIELD_DEGREE, see oas_pattern.glsl) those steps fold away:
+// GF(3^2) runs 2 of 5 steps, GF(2^3) 3 of 12. A shader without it runs every step, as before:
+// testing a run-time k per step made lavapipe's unspecialised kernel twice as slow (measured),
+// since it predicates every guarded step. The C++ twin (glsl_compat.hpp defines
+// OAS_SKIP_UNUSED_FIELD_STEPS) tests k at run time: a CPU branch skips the work.
+#if defined(OAS_STATIC_FIELD_DEGREE)
+#define OAS_FIELD_STEP_USED(f, place) ((place) < OAS_STATIC_FIELD_DEGREE)
+#elif defined(OAS_SKIP_UNUSED_FIELD_STEPS)
+#define OAS_FIELD_STEP_USED(f, place) ((place) < (f).k)
 #else
-#define OAS_FIELD_DEGREE(f) ((f).k)
+#define OAS_FIELD_STEP_USED(f, place) true
 #endif
 
 /// The largest degrees the constructions use: every OA has N >= q^2 and N <= 2^24, so q <= 4096,
@@ -74,7 +78,7 @@ uint oas_gf_spread(OasField f, uint a, uint bits)
     uint packed = 0u;
     uint shift = 0u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
-        if (i < OAS_FIELD_DEGREE(f)) {  // digits past the field's k are 0
+        if (OAS_FIELD_STEP_USED(f, i)) {  // digits past the field's k are 0
             uint next = oas_gf_divp(f, a);
             packed |= (a - next * f.p) << shift;
             a = next;
@@ -103,8 +107,9 @@ uint oas_gf_mul_add2_odd(OasField f, uint a, uint b, uint y, uint extra)
     uint acc = 0u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
         uint place = OAS_GF_MAX_ODD_K - 1u - i;  // b's digit, most significant first
-        if (place < OAS_FIELD_DEGREE(f)) {       // above k: a zero digit into a zero acc
-            uint digit = (packedB >> (bits * place)) & slotMask;
+        if (OAS_FIELD_STEP_USED(f, place)) {       // above k: a zero digit into a zero acc
+            uint digitShift = bits * place;  // >= 32 past k for wide slots: never used there
+            uint digit = place < f.k ? (packedB >> digitShift) & slotMask : 0u;
             uint top = acc >> topShift;  // the slot of x^(k-1), unreduced
             top -= oas_gf_divp(f, top) * f.p;
             acc = ((acc & belowTop) << bits) + top * packedG + digit * packedA;
@@ -114,7 +119,7 @@ uint oas_gf_mul_add2_odd(OasField f, uint a, uint b, uint y, uint extra)
     uint result = 0u;
     uint power = 1u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
-        if (i < OAS_FIELD_DEGREE(f)) {  // past k every slot and digit is 0
+        if (OAS_FIELD_STEP_USED(f, i)) {  // past k every slot and digit is 0
             uint yNext = oas_gf_divp(f, y);
             uint extraNext = oas_gf_divp(f, extra);
             uint slot = (acc & slotMask) + (y - yNext * f.p) + (extra - extraNext * f.p);
@@ -136,7 +141,7 @@ uint oas_gf_mul_binary(OasField f, uint a, uint b)
     uint top = f.q >> 1u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_BINARY_K; ++i) {
         uint place = OAS_GF_MAX_BINARY_K - 1u - i;
-        if (place < OAS_FIELD_DEGREE(f)) {  // b's bits at k and above are 0, and so is r there
+        if (OAS_FIELD_STEP_USED(f, place)) {  // b's bits at k and above are 0, and so is r there
             uint bit = (b >> place) & 1u;
             r = (((r << 1u) & (f.q - 1u)) ^ (r >= top ? f.poly : 0u)) ^ (bit != 0u ? a : 0u);
         }
@@ -155,7 +160,7 @@ uint oas_gf_add(OasField f, uint a, uint b)
     uint result = 0u;
     uint power = 1u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
-        if (i < OAS_FIELD_DEGREE(f)) {  // digits past k are 0
+        if (OAS_FIELD_STEP_USED(f, i)) {  // digits past k are 0
             uint aNext = oas_gf_divp(f, a);
             uint bNext = oas_gf_divp(f, b);
             uint d = (a - aNext * f.p) + (b - bNext * f.p);
