@@ -95,7 +95,27 @@ void main()
     // state to share across dimensions; the values are the same). The OA path below is the
     // library's bulk fast path: block and column state once per pass, shared by the run's
     // samples, which oas_draw (one sample a call) would make again for every sample.
-    if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {  // baselines: no per-column state to share
+    uint construction = OAS_CONSTRUCTION(params.pattern);
+    if (construction == OAS_JITTERED_2D || construction == OAS_CMJ_2D || construction == OAS_ZERO_TWO) {
+        // The padded 2D baselines' fast path: one pair (firstDim is even), runs of samples, the
+        // pair's state once per pass and its cell once per sample (generate_gpu.cpp's layout).
+        while (count != 0u) {
+            uint pass = oas_div_n(params.pattern, index);
+            uint passSeed = pass == 0u ? seed : oas_hash3(seed, pass, OAS_TAG_PASS);
+            uint inPass = min(count, params.pattern.N - (index - pass * params.pattern.N));
+            OasPairColumn x = oas_pair_column(params.pattern, passSeed, firstDim);
+            OasPairColumn y = oas_pair_column(params.pattern, passSeed, firstDim + 1u);
+            for (uint k = 0u; k < inPass; ++k, ++index, outAt += params.dims) {
+                uint i = index - pass * params.pattern.N;
+                uint cell = oas_pair_cell(x, i);
+                values[outAt] = oas_pair_cell_dim(params.pattern, x, cell, i);
+                if (groupDims > 1u) values[outAt + 1u] = oas_pair_cell_dim(params.pattern, y, cell, i);
+            }
+            count -= inPass;
+        }
+        return;
+    }
+    if (construction >= OAS_RANDOM) {  // other baselines: no per-column state to share
         for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
             for (uint c = 0u; c < groupDims; ++c)
                 values[outAt + c] = oas_sample(params.pattern, seed, index, firstDim + c);

@@ -122,6 +122,37 @@ TEST_F(GpuCpu, EveryBaseline)
     }
 }
 
+TEST_F(GpuCpu, Padded2dRunsCrossPassesChunksAndAnOddLastDimension)
+{
+    // The padded 2D baselines run like the OAs on the GPU: runs of samples x one pair, the pair's
+    // state once per pass. Runs here cross pass ends (N = 100 or 128, runs of 128 starting at
+    // firstSample), chunk seams fall inside runs' groups, the last pair has one dimension (7
+    // dims), and the last indices reach 2^32 - 1.
+    oas::GpuGenerator& gpu = generator();
+    for (const char* sampler : {"jittered2d", "cmj2d", "zerotwo"}) {
+        oas::PatternRequest req;
+        req.sampler = sampler;
+        req.spp = std::string(sampler) == "zerotwo" ? 128 : 100;
+        const oas::Pattern pattern = oas::makePattern(req);
+        for (std::uint32_t firstSample : {0u, 250u, 0xffffffffu - 299u}) {
+            oas::SampleRequest r;
+            r.width = 5;
+            r.height = 3;
+            r.x0 = 7;
+            r.y0 = 16383;
+            r.firstSample = firstSample;
+            r.spp = 300;
+            r.dims = 7;
+            r.seed = 0x9e3779b9u ^ firstSample;
+            gpu.setMaxPointsPerDispatch(1001);
+            compare(gpu, pattern, r,
+                    std::string(sampler) + " from sample " + std::to_string(firstSample) + ", 1001-point chunks");
+            gpu.setMaxPointsPerDispatch(0);
+            compare(gpu, pattern, r, std::string(sampler) + " from sample " + std::to_string(firstSample));
+        }
+    }
+}
+
 TEST_F(GpuCpu, SobolReadsTheWholeDirectionTableAndCrossesItsBlock)
 {
     // EveryBaseline's 70 dims stay inside Sobol's 1024-dim block: here every dimension of the

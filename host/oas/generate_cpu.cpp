@@ -44,24 +44,27 @@ bool isPadded2d(const glsl::OasPattern& pat)
 // small functions into this loop lets the compiler overlap consecutive samples' work.
 [[gnu::flatten]] void generatePadded2d(const glsl::OasPattern& pat, std::uint32_t seed, const SampleRequest& r, float* pixelOut)
 {
-    for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp;) {
-        const std::uint32_t pass = glsl::oas_div_n(pat, i);
+    // Counted in samples done, not by an end index: the last index may be 2^32 - 1, where
+    // firstSample + spp wraps to 0.
+    for (std::uint32_t done = 0; done < r.spp;) {
+        const std::uint32_t first = r.firstSample + done;
+        const std::uint32_t pass = glsl::oas_div_n(pat, first);
         const std::uint32_t passSeed = pass == 0 ? seed : glsl::oas_hash3(seed, pass, glsl::OAS_TAG_PASS);
-        const std::uint32_t end =
-            std::uint32_t(std::min<std::uint64_t>(r.firstSample + r.spp, (std::uint64_t(pass) + 1) * pat.N));
+        const std::uint32_t firstInPass = first - pass * pat.N;
+        const std::uint32_t count = std::min(r.spp - done, pat.N - firstInPass);
         for (std::uint32_t d = 0; d < r.dims; d += 2) {
             const bool both = d + 1 < r.dims;
             const glsl::OasPairColumn x = glsl::oas_pair_column(pat, passSeed, d);
             const glsl::OasPairColumn y = both ? glsl::oas_pair_column(pat, passSeed, d + 1) : x;
-            float* dst = pixelOut + std::size_t(i - r.firstSample) * r.dims + d;
-            for (std::uint32_t k = i; k != end; ++k, dst += r.dims) {
-                const std::uint32_t index = k - pass * pat.N;
+            float* dst = pixelOut + std::size_t(done) * r.dims + d;
+            for (std::uint32_t k = 0; k < count; ++k, dst += r.dims) {
+                const std::uint32_t index = firstInPass + k;
                 const std::uint32_t cell = glsl::oas_pair_cell(x, index);
                 dst[0] = glsl::oas_pair_cell_dim(pat, x, cell, index);
                 if (both) dst[1] = glsl::oas_pair_cell_dim(pat, y, cell, index);
             }
         }
-        i = end;
+        done += count;
     }
 }
 

@@ -16,6 +16,19 @@ constexpr std::uint32_t kGroupDims = 2;   // OAS_GROUP_DIMS of oas_generate.comp
 // Baselines: one sample x 8 dims per invocation, so neighbouring lanes take the same dimensions
 // of neighbouring samples (the same Halton base and Sobol direction numbers in every lane).
 constexpr std::uint32_t kBaselineGroupDims = 8;
+// The padded 2D baselines instead take the OAs' shape, runs of samples x one pair of dimensions:
+// their per-(pass, dimension) state (OasPairColumn: permutation keys, the grid's reciprocals) is
+// then made once per run and the pair's cell once per sample.
+constexpr std::uint32_t kPairGroupDims = 2;
+
+bool isPadded2d(const Pattern& p)
+{
+    return p.construction == glsl::OAS_JITTERED_2D || p.construction == glsl::OAS_CMJ_2D || p.construction == glsl::OAS_ZERO_TWO;
+}
+std::uint32_t baselineGroupDims(const Pattern& p)
+{
+    return isPadded2d(p) ? kPairGroupDims : kBaselineGroupDims;
+}
 
 struct GenerateParams {  // the push-constant block of oas_generate.comp
     Pattern pattern;
@@ -35,7 +48,7 @@ struct Layout {
 /// a run of 128 samples x 2 dimensions is far below the cap for every construction and field.
 std::uint32_t samplesPerRun(const Pattern& p)
 {
-    if (p.construction >= glsl::OAS_RANDOM) return 1;  // see kBaselineGroupDims
+    if (p.construction >= glsl::OAS_RANDOM && !isPadded2d(p)) return 1;  // see kBaselineGroupDims
     return 128;
 }
 
@@ -46,7 +59,7 @@ Layout layoutFor(const Pattern& p, const SampleRequest& r)
     l.runs = (r.spp + l.samplesPerRun - 1) / l.samplesPerRun;
     if (p.construction >= glsl::OAS_RANDOM) {
         l.groupsPerBlock = 0;
-        l.groups = (r.dims + kBaselineGroupDims - 1) / kBaselineGroupDims;
+        l.groups = (r.dims + baselineGroupDims(p) - 1) / baselineGroupDims(p);
     } else {
         const std::uint32_t blocks = (r.dims + p.blockDims - 1) / p.blockDims;
         l.groupsPerBlock = (std::min(p.blockDims, r.dims) + kGroupDims - 1) / kGroupDims;
@@ -148,7 +161,7 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
                               layout.groupsPerBlock,
                               layout.groups,
                               std::uint32_t(firstPoint),
-                              kBaselineGroupDims};
+                              baselineGroupDims(pattern)};
         const std::uint32_t workGroups = (items + kLocalSize - 1) / kLocalSize;
         const std::uint32_t gx = std::min(workGroups, maxGroupsX);
         const std::uint32_t gy = (workGroups + gx - 1) / gx;
