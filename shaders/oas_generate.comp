@@ -1,9 +1,11 @@
 #version 450
 // Writes the samples of (pixels x spp x dims) into a buffer, laid out [pixel][sample][dim] with
 // pixel = y * width + x over a rectangle. One invocation per (pixel, run of samplesPerRun
-// consecutive samples, group of up to OAS_GROUP_DIMS dims of one OA block): the block and column
-// state (OasBlock, OasColumn: seeds, permutation keys, field constants) is made once per pass
-// and reused by every sample of the run, which is the library's fast path. The host dispatches
+// consecutive samples, group of up to OAS_GROUP_DIMS dims of one OA block, or one pair of a
+// padded 2D baseline): the block and column state (OasBlock, OasColumn: seeds, permutation keys,
+// field constants; OasPairColumn for the pairs) is made once per pass and reused by every sample
+// of the run, which is the library's fast path. The other baselines take one sample x
+// baselineGroupDims dims per invocation. The host dispatches
 // chunks of whole runs (firstItem, itemCount) so each dispatch stays within device limits. The
 // library's loops all unroll, so a run's loop iterations are this kernel's own, far below
 // lavapipe's silent cap of 65535 (generate_gpu.cpp, samplesPerRun).
