@@ -97,8 +97,7 @@ void main()
     // state to share across dimensions; the values are the same). The OA path below is the
     // library's bulk fast path: block and column state once per pass, shared by the run's
     // samples, which oas_draw (one sample a call) would make again for every sample.
-    uint construction = OAS_CONSTRUCTION(params.pattern);
-    if (construction == OAS_JITTERED_2D || construction == OAS_CMJ_2D || construction == OAS_ZERO_TWO) {
+    if (oas_is_padded_2d(params.pattern)) {
         // The padded 2D baselines' fast path: one pair (firstDim is even), runs of samples, the
         // pair's state once per pass and its cell once per sample (generate_gpu.cpp's layout).
         while (count != 0u) {
@@ -117,7 +116,7 @@ void main()
         }
         return;
     }
-    if (construction >= OAS_RANDOM) {  // other baselines: no per-column state to share
+    if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {  // other baselines: no per-column state to share
         for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
             for (uint c = 0u; c < groupDims; ++c)
                 values[outAt + c] = oas_sample(params.pattern, seed, index, firstDim + c);

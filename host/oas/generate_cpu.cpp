@@ -20,12 +20,6 @@ float sample(const Pattern& pattern, std::uint32_t seed, std::uint32_t index, st
 }
 
 namespace {
-bool isPadded2d(const glsl::OasPattern& pat)
-{
-    return pat.construction == glsl::OAS_JITTERED_2D || pat.construction == glsl::OAS_CMJ_2D ||
-           pat.construction == glsl::OAS_ZERO_TWO;
-}
-
 // The other baselines (random, Halton, Sobol): oas_draw per sample, OAS_DRAW_MAX dimensions a
 // call. Flattened, so that each value is straight-line code rather than a chain of calls.
 [[gnu::flatten]] void generateBaseline(const glsl::OasPattern& pat, std::uint32_t seed, const SampleRequest& r, float* pixelOut)
@@ -107,7 +101,7 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
             const std::uint32_t y = r.y0 + std::uint32_t(px / r.width);
             const std::uint32_t seed = glsl::oas_pixel_seed(x, y, r.seed);
             float* pixelOut = out + px * r.spp * r.dims;
-            if (isPadded2d(pat)) {
+            if (glsl::oas_is_padded_2d(pat)) {
                 generatePadded2d(pat, seed, r, pixelOut);
                 continue;
             }

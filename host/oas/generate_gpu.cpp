@@ -23,7 +23,7 @@ constexpr std::uint32_t kPairGroupDims = 2;
 
 bool isPadded2d(const Pattern& p)
 {
-    return p.construction == glsl::OAS_JITTERED_2D || p.construction == glsl::OAS_CMJ_2D || p.construction == glsl::OAS_ZERO_TWO;
+    return glsl::oas_is_padded_2d(glsl::toGlsl(p));
 }
 std::uint32_t baselineGroupDims(const Pattern& p)
 {

@@ -61,6 +61,7 @@
 //         samples of a pass (indices [b.firstIndex, b.firstIndex + N)): seeds, permutation keys
 //         and field constants are made once, and each further value costs only its own work.
 //   OA constructions only (construction < OAS_RANDOM); baselines go through oas_sample, except:
+//   bool          oas_is_padded_2d(OasPattern p)          jittered2d, cmj2d or zerotwo
 //   OasPairColumn oas_pair_column(OasPattern p, uint passSeed, uint dim)
 //   float         oas_pair_column_dim(OasPattern p, OasPairColumn c, uint index)
 //   uint          oas_pair_cell(OasPairColumn c, uint index)

@@ -107,6 +107,14 @@ struct OasPairColumn {
     uint shiftStrata;
 };
 
+/// Whether the pattern is a padded 2D baseline (jittered2d, cmj2d, zerotwo): the ones with an
+/// OasPairColumn fast path.
+bool oas_is_padded_2d(OasPattern pat)
+{
+    uint construction = OAS_CONSTRUCTION(pat);
+    return construction == OAS_JITTERED_2D || construction == OAS_CMJ_2D || construction == OAS_ZERO_TWO;
+}
+
 /// OasPairColumn for dimension `dim` of a padded 2D baseline, pass seed `seed`.
 OasPairColumn oas_pair_column(OasPattern pat, uint seed, uint dim)
 {
