@@ -23,10 +23,12 @@ layout(constant_id = 0) const uint oasSpecConstruction = 1u;
 layout(constant_id = 1) const uint oasSpecOffset = 3u;
 layout(constant_id = 2) const uint oasSpecFieldKind = 0u;
 layout(constant_id = 3) const uint oasSpecFieldDegree = 1u;
+layout(constant_id = 4) const uint oasSpecSmallN = 0u;
 #define OAS_STATIC_CONSTRUCTION oasSpecConstruction
 #define OAS_STATIC_OFFSET oasSpecOffset
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
 #define OAS_STATIC_FIELD_DEGREE oasSpecFieldDegree
+#define OAS_STATIC_SMALL_N oasSpecSmallN
 #endif
 // The Sobol baseline's direction numbers (oas::sobolDirections(), 1024 dims x 32 bits).
 layout(std430, binding = 1) readonly buffer SobolDirections { uint sobolDirections[]; };

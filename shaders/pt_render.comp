@@ -16,6 +16,7 @@ PT_SAMPLER_CONSTANTS(PT_DECLARE_SPEC_CONSTANT)
 #define OAS_STATIC_OFFSET oasSpecOffset
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
 #define OAS_STATIC_FIELD_DEGREE oasSpecFieldDegree
+#define OAS_STATIC_SMALL_N oasSpecSmallN
 // The Sobol baseline's direction numbers (oas::sobolDirections(), 1024 dims x 32 bits).
 layout(std430, binding = PT_BINDING_SOBOL_DIRECTIONS) readonly buffer SobolDirections { uint sobolDirections[]; };
 #define OAS_SOBOL_DIRECTION(dim, bit) sobolDirections[(dim) * 32u + (bit)]

@@ -151,6 +151,8 @@ TEST(FixedPoint, StratumPointIsExactForEveryKUpTo2Pow24)
     std::mt19937 rng(777);
     std::vector<std::uint32_t> Ks;
     for (std::uint32_t K = 1; K <= 4096; ++K) Ks.push_back(K);
+    // Around 2^16, where oas_stratum_point_fast switches from one division to three.
+    for (std::uint32_t K : {46341u, 65521u, 65535u, 65536u, 65537u, 65539u, 99991u}) Ks.push_back(K);
     for (std::uint32_t K : {16769025u /* 4095^2 */, 16752649u /* 4093^2 */, (1u << 24) - 1, 1u << 24, 14348907u, 9565938u,
                             8388608u, 11184810u, 16777213u})
         Ks.push_back(K);
@@ -158,7 +160,8 @@ TEST(FixedPoint, StratumPointIsExactForEveryKUpTo2Pow24)
     for (std::uint32_t K : Ks) {
         const oas::Divisor div = oas::makeDivisor(K);
         std::vector<std::uint32_t> ms = {0, K - 1, K / 2, K / 3};
-        if (K <= 64)
+        // Every m for small K, and for the largest K of the one-division path (m B nears 2^32).
+        if (K <= 64 || K == 65521u || K == 65535u)
             for (std::uint32_t m = 0; m < K; ++m) ms.push_back(m);
         for (std::uint32_t m : ms) {
             for (std::uint32_t u : {0u, 1u, 0x80000000u, 0xfffffffeu, 0xffffffffu, std::uint32_t(rng())}) {

@@ -74,7 +74,7 @@ GpuGenerator::GpuGenerator(vk::Context& context, Kernel kernel) : context_(conte
 vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
 {
     const bool specialised = kernel_ == Kernel::Specialised;
-    const auto key = specialised ? oas::specializationKey(pattern) : std::make_tuple(0u, 0u, 0u, 0u);
+    const auto key = specialised ? oas::specializationKey(pattern) : std::make_tuple(0u, 0u, 0u, 0u, 0u);
     auto& slot = pipelines_[key];
     if (!slot) {
         struct Spirv {
@@ -86,7 +86,12 @@ vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
                                 ? Spirv{oas_generate_unspecialised_spv, sizeof(oas_generate_unspecialised_spv)}
                                 : Spirv{oas_generate_spv, sizeof(oas_generate_spv)};
         vk::ComputePipeline::SpecConstants spec;
-        if (specialised) spec = {{0, std::get<0>(key)}, {1, std::get<1>(key)}, {2, std::get<2>(key)}, {3, std::get<3>(key)}};
+        if (specialised)
+            spec = {{0, std::get<0>(key)},
+                    {1, std::get<1>(key)},
+                    {2, std::get<2>(key)},
+                    {3, std::get<3>(key)},
+                    {4, std::get<4>(key)}};
         const auto start = std::chrono::steady_clock::now();
         slot = std::make_unique<vk::ComputePipeline>(context_, spirv.code, spirv.bytes, 2, std::uint32_t(sizeof(GenerateParams)),
                                                      spec);

@@ -48,8 +48,10 @@ inline uint min(uint a, uint b)
 #define OAS_UNROLL
 
 // On a CPU a branch skips work where a GPU would predicate it: the field loops skip the steps
-// past the field's degree (oas_gf.glsl). The values are the same either way.
-#define OAS_SKIP_UNUSED_FIELD_STEPS
+// past the field's degree (oas_gf.glsl), and the stratum point divides once where K <= 2^16
+// (oas_strata.glsl). A shader gets the same by specialisation (OAS_STATIC_*); the values are the
+// same either way.
+#define OAS_RUNTIME_BRANCHES
 
 // The C++ twin has the Sobol baseline: its direction numbers come from the host's table.
 #define OAS_SOBOL_DIRECTION(dim, bit) (::oas::sobolDirections()[(dim)*32u + (bit)])

@@ -73,11 +73,18 @@ inline std::uint32_t fieldDegree(const Pattern& p)
 {
     return p.fieldK <= 1 ? 1u : p.fieldK;
 }
-/// What a GPU pipeline is specialized on (construction, offset, field kind, field degree): two
-/// patterns with the same key run on the same pipeline, the rest of the pattern being push constants.
-inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t> specializationKey(const Pattern& p)
+/// OAS_STATIC_SMALL_N for the pattern: 1 when N <= 2^16, so that every stratum count the library
+/// divides by fits the stratum point's one-division path (shaders/oas/oas_strata.glsl).
+inline std::uint32_t smallN(const Pattern& p)
 {
-    return {p.construction, p.offset, fieldKind(p), fieldDegree(p)};
+    return p.N <= 65536u ? 1u : 0u;
+}
+/// What a GPU pipeline is specialized on (construction, offset, field kind, field degree, small
+/// N): two patterns with the same key run on the same pipeline, the rest of the pattern being
+/// push constants.
+inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t> specializationKey(const Pattern& p)
+{
+    return {p.construction, p.offset, fieldKind(p), fieldDegree(p), smallN(p)};
 }
 
 /// Sobol direction numbers, OAS_SOBOL_BLOCK_DIMS (1024) dimensions x 32 bits, [dim * 32 + bit], bit 0

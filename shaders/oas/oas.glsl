@@ -99,9 +99,10 @@
 //     between opposite edges of the pair's square (N^-3 on periodic ones); MJ offsets give N^-2
 //     on both (docs/STUDY.md). Prefer MJ for smooth, non-periodic pairs.
 //   - Specialise the shader on the pattern kind (OAS_STATIC_CONSTRUCTION / _OFFSET / _FIELD_KIND /
-//     _FIELD_DEGREE, e.g. from specialization constants, see oas_pattern.glsl) for speed: lavapipe
-//     runs both sides of every branch, so an unspecialised shader pays for every construction's
-//     code, and for field loops as long as the largest field's. Correctness does not depend on it.
+//     _FIELD_DEGREE / _SMALL_N, e.g. from specialization constants, see oas_pattern.glsl) for
+//     speed: lavapipe runs both sides of every branch, so an unspecialised shader pays for every
+//     construction's code, for field loops as long as the largest field's, and for the stratum
+//     point's long division. Correctness does not depend on it.
 //   - Fixed work. Each loop's trip count is the largest case the numeric contract allows: 12 bits
 //     of a GF(2^k) element, 5 digits of an odd extension field's element, t <= 8 Bush digits, 12
 //     exponent bits of an inverse, 5 exponent bits of CMJND's digit place, 24 bits of a (0,2)

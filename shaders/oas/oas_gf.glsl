@@ -40,10 +40,10 @@ const uint OAS_FIELD_ODD_EXTENSION = 2u; ///< p odd, k > 1
 // GF(3^2) runs 2 of 5 steps, GF(2^3) 3 of 12. A shader without it runs every step, as before:
 // testing a run-time k per step made lavapipe's unspecialised kernel twice as slow (measured),
 // since it predicates every guarded step. The C++ twin (glsl_compat.hpp defines
-// OAS_SKIP_UNUSED_FIELD_STEPS) tests k at run time: a CPU branch skips the work.
+// OAS_RUNTIME_BRANCHES) tests k at run time: a CPU branch skips the work.
 #if defined(OAS_STATIC_FIELD_DEGREE)
 #define OAS_FIELD_STEP_USED(f, place) ((place) < OAS_STATIC_FIELD_DEGREE)
-#elif defined(OAS_SKIP_UNUSED_FIELD_STEPS)
+#elif defined(OAS_RUNTIME_BRANCHES)
 #define OAS_FIELD_STEP_USED(f, place) ((place) < (f).k)
 #else
 #define OAS_FIELD_STEP_USED(f, place) true

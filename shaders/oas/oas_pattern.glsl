@@ -49,8 +49,9 @@ struct OasPattern {
 
 // A shader that evaluates one kind of pattern can fix these at compile time (for instance with
 // specialization constants) by defining OAS_STATIC_CONSTRUCTION, OAS_STATIC_OFFSET,
-// OAS_STATIC_FIELD_KIND and OAS_STATIC_FIELD_DEGREE (fieldK, or 1 where the pattern has no field)
-// before including oas.glsl. They must equal the pattern's own values.
+// OAS_STATIC_FIELD_KIND, OAS_STATIC_FIELD_DEGREE (fieldK, or 1 where the pattern has no field) and
+// OAS_STATIC_SMALL_N (1 when N <= 65536, else 0) before including oas.glsl. They must equal the
+// pattern's own values.
 // Software rasterisers such as lavapipe run both sides of every branch, so folding the branches
 // of the constructions a shader does not use is what makes it fast there.
 #ifdef OAS_STATIC_CONSTRUCTION

@@ -11,6 +11,19 @@
 const float OAS_INV_2POW24 = 5.9604644775390625e-8;
 /// One past the largest fixed-point value: outputs are F * 2^-24 with F < 2^24, so never 1.0.
 const uint OAS_ONE_FIXED = 16777216u;
+// Whether oas_stratum_point_fast may take its one-division path, which needs K <= 2^16. With
+// OAS_STATIC_SMALL_N (oas_pattern.glsl: 1 when the pattern's N <= 2^16, which bounds every K the
+// library passes, since s, N and a 2D grid's sides are all at most N) the choice is made at
+// compile time. The C++ twin (OAS_RUNTIME_BRANCHES) tests K: a CPU branch is cheap. Otherwise the
+// long division runs for every K, as before: testing K at run time cost lavapipe 5-14%, since it
+// runs both paths (measured on oas-bench's OA rows).
+#if defined(OAS_STATIC_SMALL_N)
+#define OAS_SMALL_STRATA(K) (OAS_STATIC_SMALL_N != 0u)
+#elif defined(OAS_RUNTIME_BRANCHES)
+#define OAS_SMALL_STRATA(K) ((K) <= 65536u)
+#else
+#define OAS_SMALL_STRATA(K) false
+#endif
 
 /// ceil(m * 2^24 / K) for m <= K and 1 <= K <= 2^24, in 32-bit integers: the smallest 24-bit
 /// fixed-point value F with F / 2^24 >= m / K. Long division eight bits at a time keeps every
@@ -42,23 +55,38 @@ float oas_stratum_point(uint m, uint K, uint u)
 }
 
 /// oas_stratum_point with the division by K done by oas_fastdiv (recip, l describe K); the same
-/// values, bit for bit. One long division gives both ends of the stratum: the upper end adds
-/// floor(2^24 / K) and 2^24 mod K to the lower end's quotient and remainder.
+/// values, bit for bit. With A = floor(2^24 / K) and B = 2^24 mod K, m 2^24 = m A K + m B, so
+/// ceil(m 2^24 / K) = m A + ceil(m B / K), and m B < K^2 fits 32 bits for K <= 2^16: one division
+/// of m B (A does not depend on m, so it is off the value's critical path). Otherwise a long
+/// division eight bits at a time: three dependent divisions. Either way the upper end m + 1 adds
+/// A and B to the lower end's quotient and remainder. Which path runs is OAS_SMALL_STRATA(K)
+/// (oas_pattern.glsl): a shader specialised on the pattern (OAS_STATIC_SMALL_N) compiles one path;
+/// an unspecialised shader takes the long division, as lavapipe would run both sides of a branch.
 float oas_stratum_point_fast(uint m, uint K, uint recip, uint l, uint u)
 {
-    uint r = m << 8u;  // m < K <= 2^24, so every r below stays under 2^32
-    uint d = oas_fastdiv(r, recip, l);
-    uint q = d;
-    r = (r - d * K) << 8u;
-    d = oas_fastdiv(r, recip, l);
-    q = (q << 8u) | d;
-    r = (r - d * K) << 8u;
-    d = oas_fastdiv(r, recip, l);
-    q = (q << 8u) | d;
-    r -= d * K;
+    uint stepQ = oas_fastdiv(OAS_ONE_FIXED, recip, l);  // A
+    uint stepR = OAS_ONE_FIXED - stepQ * K;             // B
+    uint q;
+    uint r;
+    if (OAS_SMALL_STRATA(K)) {
+        uint product = m * stepR;  // < K^2 <= 2^32
+        uint d = oas_fastdiv(product, recip, l);
+        q = m * stepQ + d;
+        r = product - d * K;
+    } else {
+        r = m << 8u;  // m < K <= 2^24, so every r below stays under 2^32
+        uint d = oas_fastdiv(r, recip, l);
+        q = d;
+        r = (r - d * K) << 8u;
+        d = oas_fastdiv(r, recip, l);
+        q = (q << 8u) | d;
+        r = (r - d * K) << 8u;
+        d = oas_fastdiv(r, recip, l);
+        q = (q << 8u) | d;
+        r -= d * K;
+    }
     uint lo = r != 0u ? q + 1u : q;
-    uint stepQ = oas_fastdiv(OAS_ONE_FIXED, recip, l);
-    uint r2 = r + (OAS_ONE_FIXED - stepQ * K);
+    uint r2 = r + stepR;
     uint q2 = q + stepQ;
     if (r2 >= K) { r2 -= K; q2 += 1u; }
     uint hi = r2 != 0u ? q2 + 1u : q2;
