@@ -113,6 +113,8 @@ int main(int argc, char** argv)
             {"bose", 121, 0, "mj"},
             {"bose", 121, 0, "j"},
             {"bose", 64, 0, "cmj"},
+            {"bose", 49, 0, "cmj"},  // the field sizes of the Addelman-Kempthorne rows: q = 7 ...
+            {"bose", 81, 0, "cmj"},  // ... and q = 9, GF(3^2)
             {"bush", 125, 3, "mj"},
             {"bose-bush", 128, 0, "cmj"},
             {"addelman-kempthorne", 98, 0, "cmj"},

@@ -48,6 +48,16 @@ const uint OAS_FIELD_ODD_EXTENSION = 2u; ///< p odd, k > 1
 #else
 #define OAS_FIELD_STEP_USED(f, place) true
 #endif
+// Whether `place` is the field's top digit, k - 1, under the same three regimes. An element below
+// q = p^k that has been divided by p k - 1 times is its own top digit, so that last division
+// (quotient 0) can go; a shader that does not know k keeps it.
+#if defined(OAS_STATIC_FIELD_DEGREE)
+#define OAS_FIELD_TOP_STEP(f, place) ((place) + 1u == OAS_STATIC_FIELD_DEGREE)
+#elif defined(OAS_RUNTIME_BRANCHES)
+#define OAS_FIELD_TOP_STEP(f, place) ((place) + 1u == (f).k)
+#else
+#define OAS_FIELD_TOP_STEP(f, place) false
+#endif
 
 /// The largest degrees the constructions use: every OA has N >= q^2 and N <= 2^24, so q <= 4096,
 /// which is 2^12 and 3^7. The host refuses odd extension fields whose digit slots (below) do not
@@ -59,6 +69,13 @@ const uint OAS_GF_POW_BITS = 12u;
 
 /// a mod p and a / p via the field's reciprocal.
 uint oas_gf_divp(OasField f, uint a) { return oas_fastdiv(a, f.recipP, f.shiftP); }
+
+/// a / p while peeling the base-p digit `place` off an element below q (what is left of it after
+/// `place` divisions): 0 at the top digit, which needs no division (OAS_FIELD_TOP_STEP).
+uint oas_gf_digit_rest(OasField f, uint a, uint place)
+{
+    return OAS_FIELD_TOP_STEP(f, place) ? 0u : oas_gf_divp(f, a);
+}
 
 /// Width in bits of one digit slot of the packed form oas_gf_mul_add2 computes in: slot values
 /// there stay below 2 k (p-1)^2 + 2 (p-1), so a slot is that many bits wide; the host accepts an
@@ -79,7 +96,7 @@ uint oas_gf_spread(OasField f, uint a, uint bits)
     uint shift = 0u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
         if (OAS_FIELD_STEP_USED(f, i)) {  // digits past the field's k are 0
-            uint next = oas_gf_divp(f, a);
+            uint next = oas_gf_digit_rest(f, a, i);
             packed |= (a - next * f.p) << shift;
             a = next;
             shift = min(shift + bits, 31u);  // stays a valid shift; only zeros go there
@@ -111,7 +128,8 @@ uint oas_gf_mul_add2_odd(OasField f, uint a, uint b, uint y, uint extra)
             uint digitShift = bits * place;  // >= 32 past k for wide slots: never used there
             uint digit = place < f.k ? (packedB >> digitShift) & slotMask : 0u;
             uint top = acc >> topShift;  // the slot of x^(k-1), unreduced
-            top -= oas_gf_divp(f, top) * f.p;
+            // The first step that does work is the top digit's, and acc is still 0 there.
+            if (!OAS_FIELD_TOP_STEP(f, place)) top -= oas_gf_divp(f, top) * f.p;
             acc = ((acc & belowTop) << bits) + top * packedG + digit * packedA;
         }
     }
@@ -120,8 +138,8 @@ uint oas_gf_mul_add2_odd(OasField f, uint a, uint b, uint y, uint extra)
     uint power = 1u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
         if (OAS_FIELD_STEP_USED(f, i)) {  // past k every slot and digit is 0
-            uint yNext = oas_gf_divp(f, y);
-            uint extraNext = oas_gf_divp(f, extra);
+            uint yNext = oas_gf_digit_rest(f, y, i);  // y, extra < q
+            uint extraNext = oas_gf_digit_rest(f, extra, i);
             uint slot = (acc & slotMask) + (y - yNext * f.p) + (extra - extraNext * f.p);
             result += (slot - oas_gf_divp(f, slot) * f.p) * power;
             acc >>= bits;
@@ -161,8 +179,8 @@ uint oas_gf_add(OasField f, uint a, uint b)
     uint power = 1u;
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_ODD_K; ++i) {
         if (OAS_FIELD_STEP_USED(f, i)) {  // digits past k are 0
-            uint aNext = oas_gf_divp(f, a);
-            uint bNext = oas_gf_divp(f, b);
+            uint aNext = oas_gf_digit_rest(f, a, i);
+            uint bNext = oas_gf_digit_rest(f, b, i);
             uint d = (a - aNext * f.p) + (b - bNext * f.p);
             result += (d >= f.p ? d - f.p : d) * power;
             power *= f.p;
