@@ -78,7 +78,7 @@ Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const 
     batch.count = 1;
     tracer.trace(batch);  // warm-up
     const auto start = Clock::now();
-    const std::uint32_t perDispatch = variant.perDispatch ? variant.perDispatch : oas::render::samplesPerBatch(plan);
+    const std::uint32_t perDispatch = variant.perDispatch ? variant.perDispatch : tracer.samplesPerBatch();
     for (std::uint32_t i = 0; i < spp; i += batch.count) {
         batch.firstSample = i;
         batch.count = std::min(perDispatch, spp - i);

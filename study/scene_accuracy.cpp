@@ -41,12 +41,11 @@ struct Render {
     double seconds = 0;
 };
 
-Render render(oas::render::GpuTracer& tracer, const oas::render::DimensionPlan& plan, std::uint32_t width, std::uint32_t height,
-              std::uint32_t spp, std::uint32_t seed)
+Render render(oas::render::GpuTracer& tracer, std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t seed)
 {
     tracer.clear();
     const auto start = Clock::now();
-    oas::render::forEachBatch(width, height, spp, oas::render::samplesPerBatch(plan), seed,
+    oas::render::forEachBatch(width, height, spp, tracer.samplesPerBatch(), seed,
                               [&](const oas::render::SampleBatch& b) { tracer.trace(b); });
     Render r;
     r.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -250,8 +249,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             std::fprintf(stderr, "[scenes] %s %ux%u, %uD: reference (Sobol, 2 x %u spp)...\n", info.name.c_str(), scene.width,
                          scene.height, plan.usedDims, referenceSpp / 2);
             auto& refTracer = cache.get(refPattern);
-            const Render a = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0xA5A5A5A5u + si);
-            const Render b = render(refTracer, plan, scene.width, scene.height, referenceSpp / 2, 0x5A5A5A5Au + si);
+            const Render a = render(refTracer, scene.width, scene.height, referenceSpp / 2, 0xA5A5A5A5u + si);
+            const Render b = render(refTracer, scene.width, scene.height, referenceSpp / 2, 0x5A5A5A5Au + si);
             reference = a.image;
             for (std::size_t i = 0; i < reference.rgba.size(); ++i)
                 reference.rgba[i] = 0.5f * (a.image.rgba[i] + b.image.rgba[i]);
@@ -348,8 +347,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                     return drawOf(p, keptImage[p][t]);
                 }
                 auto& tracer = cache.get(*pt.pattern);
-                const Render r =
-                    render(tracer, plan, scene.width, scene.height, pt.spp, mixSeed(si, seedIndex(pt.sampler), pt.spp, t));
+                const Render r = render(tracer, scene.width, scene.height, pt.spp, mixSeed(si, seedIndex(pt.sampler), pt.spp, t));
                 SceneMeasurement m;
                 m.scene = info.name;
                 m.sampler = s.label;

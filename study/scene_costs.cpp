@@ -163,7 +163,7 @@ std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::v
             auto& tracer = cache.get(p.pattern);
             tracer.clear();
             const auto start = Clock::now();
-            oas::render::forEachBatch(record.width, record.height, p.spp, oas::render::samplesPerBatch(plan), 0x5eed0000u + round,
+            oas::render::forEachBatch(record.width, record.height, p.spp, tracer.samplesPerBatch(), 0x5eed0000u + round,
                                       [&](const oas::render::SampleBatch& b) { tracer.trace(b); });
             p.times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
         }

@@ -423,6 +423,44 @@ TEST_F(RenderGpu, SceneFeatureSpecialisationKeepsEverySumBitForBit)
     EXPECT_TRUE(sawSpecialised) << "no shipped scene lacks a feature: the test compares a kernel with itself";
 }
 
+TEST_F(RenderGpu, BatchesOfSamplesPerDispatchGiveTheSumsOfOneSampleAtATime)
+{
+    // Lavapipe ends an invocation's loops after 65535 iterations in all, silently: a batch too large
+    // for a scene would lose path vertices and change the sums. samplesPerBatch sizes the batch
+    // from a worst-case bound per sample; here each shipped scene renders in those batches and one
+    // sample per dispatch, and the exact sums must agree word for word.
+    std::uint32_t largestBatch = 0;
+    for (const char* name : {"cornell7d.json", "blue_spheres9d.json", "interior_deep.json", "mesh_demo.json"}) {
+        auto s = loadTestScene(name);
+        s.height = std::max(1u, s.height * 12 / s.width);
+        s.width = 12;
+        const auto plan = render::planDimensions(s);
+        const auto data = render::flattenScene(s);
+        const auto pattern = patternFor(s, plan, 16);
+        render::GpuTracer gpu(context(), data, plan, pattern);
+        const std::uint32_t perBatch = gpu.samplesPerBatch();
+        EXPECT_EQ(perBatch, render::samplesPerBatch(plan, data)) << name;
+        EXPECT_GE(perBatch, 1u) << name;
+        EXPECT_LE(perBatch, render::kMaxSamplesPerBatch) << name;
+        largestBatch = std::max(largestBatch, perBatch);
+        auto [batch, unused] = wholeImage(s, 16, 5);
+        for (std::uint32_t first = 0; first < 16; first += perBatch) {
+            batch.firstSample = first;
+            batch.count = std::min(perBatch, 16 - first);
+            gpu.trace(batch);
+        }
+        const auto batched = gpu.accumulation();
+        gpu.clear();
+        for (std::uint32_t first = 0; first < 16; ++first) {
+            batch.firstSample = first;
+            batch.count = 1;
+            gpu.trace(batch);
+        }
+        EXPECT_TRUE(batched.words == gpu.accumulation().words) << name << ": " << perBatch << " samples per dispatch";
+    }
+    EXPECT_GT(largestBatch, 1u) << "every scene got one sample per dispatch: the comparison would prove nothing";
+}
+
 TEST_F(RenderGpu, RejectsNonFiniteNegativeAndHugeSamples)
 {
     // With the light's radiance NaN, negative or 1e30 (>= 2^64) in the flattened scene (the loader

@@ -949,7 +949,7 @@ TEST_F(StudyGpu, TheRarePixelsShareOnTheCpuIsTheGpuRendersShare)
     oas::render::GpuTracer gpu(context(), data, plan, pattern);
     auto renderWith = [&](std::uint32_t seed) {
         gpu.clear();
-        oas::render::forEachBatch(16, 16, 121, oas::render::samplesPerBatch(plan), seed,
+        oas::render::forEachBatch(16, 16, 121, gpu.samplesPerBatch(), seed,
                                   [&](const oas::render::SampleBatch& b) { gpu.trace(b); });
         return gpu.accumulation().image();
     };

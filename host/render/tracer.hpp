@@ -26,9 +26,15 @@ struct SampleBatch {
     std::uint32_t seed = 0;
 };
 
-/// Samples per dispatch for a plan: a few paths per invocation, so that one dispatch stays short on
-/// real GPUs and under lavapipe's per-invocation loop cap (65535 iterations; DESIGN-NOTES).
-std::uint32_t samplesPerBatch(const DimensionPlan& plan);
+/// Samples per dispatch for a scene: as many as lavapipe's per-invocation loop cap allows in the
+/// worst case, at most kMaxSamplesPerBatch. Lavapipe silently ends an invocation's loops after
+/// 65535 iterations in all, so a batch takes floor(65535 / w) samples, where w bounds one sample's
+/// loop iterations: its own, the vertex loop's, and per ray one per BVH node and one per shape (the
+/// walk visits a node at most once; each shape lies in one leaf). At least 1: a scene whose single
+/// sample could pass the cap (w > 65535) gets one per dispatch, as small as a batch goes.
+std::uint32_t samplesPerBatch(const DimensionPlan& plan, const SceneData& data);
+/// The largest batch: bounds a dispatch's length on real GPUs (a watchdog ends long ones).
+constexpr std::uint32_t kMaxSamplesPerBatch = 8;
 
 /// Visits samples [firstSample, spp) of a width x height image as passes of sample batches, each
 /// pass over tiles of at most kRenderTile^2 pixels (bounded dispatches). `trace` gets every batch;
@@ -125,6 +131,8 @@ public:
     /// Wall-clock seconds the constructor spent building the compute pipeline (shader compile and
     /// specialization: on lavapipe most of a short render's time).
     double pipelineBuildSeconds() const { return pipelineBuildSeconds_; }
+    /// samplesPerBatch for this tracer's scene and plan.
+    std::uint32_t samplesPerBatch() const { return samplesPerBatch_; }
 
 private:
     vk::Context& context_;
@@ -133,6 +141,7 @@ private:
     std::unique_ptr<vk::ComputePipeline> pipeline_;
     std::vector<std::unique_ptr<vk::Buffer>> buffers_;
     double pipelineBuildSeconds_ = 0;
+    std::uint32_t samplesPerBatch_ = 1;
 };
 
 }  // namespace oas::render

@@ -48,7 +48,7 @@ pt::PtSpecialization specialization(const DimensionPlan& plan, const Pattern& pa
 GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,
                      const GpuTracerOptions& options)
     : context_(context), pattern_(pattern), width_(std::uint32_t(data.globals.image.x)),
-      height_(std::uint32_t(data.globals.image.y))
+      height_(std::uint32_t(data.globals.image.y)), samplesPerBatch_(render::samplesPerBatch(plan, data))
 {
     const SceneFeatures features = sceneFeatures(data);
     const pt::PtSpecialization s =
@@ -89,9 +89,16 @@ void GpuTracer::setPattern(const Pattern& pattern)
     pattern_ = pattern;
 }
 
-std::uint32_t samplesPerBatch(const DimensionPlan& plan)
+std::uint32_t samplesPerBatch(const DimensionPlan& plan, const SceneData& data)
 {
-    return std::max<std::uint32_t>(1, 8 / std::max<std::uint32_t>(1, plan.maxDepth));
+    // pt_render.comp's loops, per sample: the sample loop (1), the vertex loop (maxDepth + 2), and
+    // pt_trace's walk for each of maxDepth + 1 rays, as many shadow rays again with next-event
+    // estimation (pt_visible). The other loops are unrolled.
+    constexpr std::uint64_t kLoopCap = 65535;
+    const std::uint64_t depth = plan.maxDepth;
+    const std::uint64_t rays = (depth + 1) * (plan.nee ? 2 : 1);
+    const std::uint64_t perSample = 1 + (depth + 2) + rays * (data.nodes.size() + data.shapes.size());
+    return std::uint32_t(std::clamp<std::uint64_t>(kLoopCap / perSample, 1, kMaxSamplesPerBatch));
 }
 
 BatchCursor::BatchCursor(std::uint32_t width, std::uint32_t height, std::uint32_t spp, std::uint32_t perBatch, std::uint32_t seed,

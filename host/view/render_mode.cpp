@@ -149,7 +149,7 @@ const Frame& RenderMode::frame(Viewer& v)
         cursor_.reset();
     }
     if (!cursor_) {
-        cursor_.emplace(scene_.width, scene_.height, scene_.sampler.spp, render::samplesPerBatch(plan_), o_.seed, tile_);
+        cursor_.emplace(scene_.width, scene_.height, scene_.sampler.spp, render::samplesPerBatch(plan_, data_), o_.seed, tile_);
         renderStart_ = Clock::now();
         traceSeconds_ = 0;
     }
