@@ -122,8 +122,8 @@ public:
     /// out of the sums, counted so that a render can report them (our scenes have none).
     std::uint64_t rejectedSamples() const;
     void clear();
-    /// Whether `pattern` runs on this tracer's pipeline (same construction, offset and field kind:
-    /// the specialization constants); other pattern fields are push constants.
+    /// Whether `pattern` runs on this tracer's pipeline (the same oas::specializationKey: the
+    /// specialization constants); other pattern fields are push constants.
     bool accepts(const Pattern& pattern) const;
     /// Switches to another pattern of the same specialization without recompiling (the study
     /// renders many sample counts per sampler). Throws std::invalid_argument otherwise.
