@@ -104,7 +104,7 @@ void main()
         // pair's state once per pass and its cell once per sample (generate_gpu.cpp's layout).
         while (count != 0u) {
             uint pass = oas_div_n(params.pattern, index);
-            uint passSeed = pass == 0u ? seed : oas_hash3(seed, pass, OAS_TAG_PASS);
+            uint passSeed = oas_pass_seed(seed, pass);
             uint inPass = min(count, params.pattern.N - (index - pass * params.pattern.N));
             OasPairColumn x = oas_pair_column(params.pattern, passSeed, firstDim);
             OasPairColumn y = oas_pair_column(params.pattern, passSeed, firstDim + 1u);

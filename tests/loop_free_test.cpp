@@ -151,7 +151,8 @@ private:
     oas::vk::ComputePipeline& pipeline(const oas::Pattern& pattern, bool specialized, bool calibrate)
     {
         // Calibration runs no library code, so one pipeline per build serves every pattern.
-        // This shader is specialised on the first three (it leaves the field degree to run time).
+        // This shader is specialised on the first three (it leaves the field degree and the size of
+        // N to run time).
         const auto kind =
             specialized && !calibrate ? oas::specializationKey(pattern) : decltype(oas::specializationKey(pattern)){};
         const Key key{specialized, calibrate, std::get<0>(kind), std::get<1>(kind), std::get<2>(kind)};

@@ -43,7 +43,7 @@ namespace {
     for (std::uint32_t done = 0; done < r.spp;) {
         const std::uint32_t first = r.firstSample + done;
         const std::uint32_t pass = glsl::oas_div_n(pat, first);
-        const std::uint32_t passSeed = pass == 0 ? seed : glsl::oas_hash3(seed, pass, glsl::OAS_TAG_PASS);
+        const std::uint32_t passSeed = glsl::oas_pass_seed(seed, pass);
         const std::uint32_t firstInPass = first - pass * pat.N;
         const std::uint32_t count = std::min(r.spp - done, pat.N - firstInPass);
         for (std::uint32_t d = 0; d < r.dims; d += 2) {

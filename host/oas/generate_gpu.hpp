@@ -37,7 +37,7 @@ private:
     vk::ComputePipeline& pipelineFor(const Pattern& pattern);
     vk::Context& context_;
     Kernel kernel_;
-    /// One pipeline per (construction, offset, field kind, field degree) specialisation, made on first use.
+    /// One pipeline per specializationKey (the kernel's specialization constants), made on first use.
     std::map<decltype(specializationKey(Pattern{})), std::unique_ptr<vk::ComputePipeline>> pipelines_;
     std::unique_ptr<vk::Buffer> buffer_;
     std::unique_ptr<vk::Buffer> sobol_;  ///< Sobol direction numbers (binding 1)

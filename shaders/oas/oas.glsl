@@ -39,6 +39,7 @@
 //                                (C++), which checks the parameters, and upload it (push constant
 //                                or uniform/storage buffer; its layout is 16 uints).
 //   uint  oas_pixel_seed(uint x, uint y, uint seed)              per-pixel seed
+//   uint  oas_pass_seed(uint pixelSeed, uint pass)               seed of a pass of N samples
 //   float oas_sample(OasPattern p, uint pixelSeed, uint index, uint dim)
 //         Dimension `dim` of sample `index` of the pixel: a pure function, fixed work, in [0, 1)
 //         (never 1.0, never NaN), exactly inside the strata the construction promises.
@@ -68,7 +69,7 @@
 //   float         oas_pair_cell_dim(OasPattern p, OasPairColumn c, uint cell, uint index)
 //         the padded 2D baselines' (jittered2d, cmj2d, zerotwo) fast path: the pair's keys and
 //         the grid's reciprocals once per (pixel, pass, dimension); index < N within the pass,
-//         passSeed = pixelSeed in pass 0, oas_hash3(pixelSeed, pass, OAS_TAG_PASS) after it.
+//         passSeed = oas_pass_seed(pixelSeed, pass).
 //         The two dimensions of a pair share one cell (oas_pair_cell) per sample.
 //
 // EXAMPLE (one invocation per pixel, looping over all of its samples; the library adds no loop
@@ -154,13 +155,8 @@
 /// into its shader once, not twice.
 float oas_baseline_sample(OasPattern pat, uint pixelSeed, uint index, uint dim)
 {
-    uint seed = pixelSeed;
     uint pass = oas_div_n(pat, index);
-    if (pass != 0u) {
-        index -= pass * pat.N;
-        seed = oas_hash3(pixelSeed, pass, OAS_TAG_PASS);
-    }
-    return oas_baseline_dim(pat, seed, index, dim);
+    return oas_baseline_dim(pat, oas_pass_seed(pixelSeed, pass), index - pass * pat.N, dim);
 }
 
 /// Dimension `dim` of sample `index` for the pixel with seed `pixelSeed`. See the API above.

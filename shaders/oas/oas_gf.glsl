@@ -41,21 +41,19 @@ const uint OAS_FIELD_ODD_EXTENSION = 2u; ///< p odd, k > 1
 // testing a run-time k per step made lavapipe's unspecialised kernel twice as slow (measured),
 // since it predicates every guarded step. The C++ twin (glsl_compat.hpp defines
 // OAS_RUNTIME_BRANCHES) tests k at run time: a CPU branch skips the work.
+// OAS_FIELD_TOP_STEP: whether `place` is the field's top digit, k - 1. An element below q = p^k
+// that has been divided by p k - 1 times is its own top digit, so that last division (quotient 0)
+// can go; a shader that does not know k keeps it.
 #if defined(OAS_STATIC_FIELD_DEGREE)
-#define OAS_FIELD_STEP_USED(f, place) ((place) < OAS_STATIC_FIELD_DEGREE)
+#define OAS_KNOWN_FIELD_DEGREE(f) OAS_STATIC_FIELD_DEGREE
 #elif defined(OAS_RUNTIME_BRANCHES)
-#define OAS_FIELD_STEP_USED(f, place) ((place) < (f).k)
+#define OAS_KNOWN_FIELD_DEGREE(f) ((f).k)
+#endif
+#ifdef OAS_KNOWN_FIELD_DEGREE
+#define OAS_FIELD_STEP_USED(f, place) ((place) < OAS_KNOWN_FIELD_DEGREE(f))
+#define OAS_FIELD_TOP_STEP(f, place) ((place) + 1u == OAS_KNOWN_FIELD_DEGREE(f))
 #else
 #define OAS_FIELD_STEP_USED(f, place) true
-#endif
-// Whether `place` is the field's top digit, k - 1, under the same three regimes. An element below
-// q = p^k that has been divided by p k - 1 times is its own top digit, so that last division
-// (quotient 0) can go; a shader that does not know k keeps it.
-#if defined(OAS_STATIC_FIELD_DEGREE)
-#define OAS_FIELD_TOP_STEP(f, place) ((place) + 1u == OAS_STATIC_FIELD_DEGREE)
-#elif defined(OAS_RUNTIME_BRANCHES)
-#define OAS_FIELD_TOP_STEP(f, place) ((place) + 1u == (f).k)
-#else
 #define OAS_FIELD_TOP_STEP(f, place) false
 #endif
 

@@ -286,17 +286,20 @@ struct OasColumn {
 /// Pixel seed from integer pixel coordinates and a user seed (frame, render, ...).
 uint oas_pixel_seed(uint x, uint y, uint seed) { return oas_hash3(seed, x, y); }
 
+/// The seed of pass `pass` (samples [pass N, pass N + N)) of the pixel with seed `pixelSeed`: the
+/// pixel seed itself in pass 0, a hash of it and the pass after that. Every sampler's randomization
+/// of a pass starts here, so that passes are independent and pass 0 needs no hash.
+uint oas_pass_seed(uint pixelSeed, uint pass) { return pass == 0u ? pixelSeed : oas_hash3(pixelSeed, pass, OAS_TAG_PASS); }
+
 /// Block state for the pass that holds sample `index` (any index: indices >= N begin further
 /// passes, each an independent randomization of the same OA, so any number of samples is valid
 /// and every complete pass of N samples is itself stratified). Valid for the N indices
 /// [firstIndex, firstIndex + N).
 OasBlock oas_block(OasPattern pat, uint pixelSeed, uint index, uint block)
 {
-    uint seed = pixelSeed;
     uint pass = oas_div_n(pat, index);
-    if (pass != 0u) seed = oas_hash3(pixelSeed, pass, OAS_TAG_PASS);
     OasBlock b;
-    b.seed = oas_hash2(seed, block);
+    b.seed = oas_hash2(oas_pass_seed(pixelSeed, pass), block);
     b.firstIndex = pass * pat.N;
     b.rows = oas_permutation(pat.N, b.seed ^ OAS_TAG_ROW);
     return b;
