@@ -19,41 +19,10 @@ namespace {
 
 using oas::glsl::OAS_DRAW_MAX;
 
-/// Every construction over each field kind (prime, GF(2^k), GF(3^k), GF(5^k), odd p^2), small
-/// blocks (where a group of 8 crosses several) and the largest cases.
-std::vector<oas::test::SamplerCase> oaCases()
-{
-    std::vector<oas::test::SamplerCase> cases = {{"bose", 4, 0},
-                                                 {"bose", 9, 0},
-                                                 {"bose", 64, 0},
-                                                 {"bose", 81, 0},
-                                                 {"bose", 121, 0},
-                                                 {"bose", 625, 0},
-                                                 {"bose", 1024, 0},
-                                                 {"bush", 9, 2},
-                                                 {"bush", 27, 3},
-                                                 {"bush", 125, 3},
-                                                 {"bush", 4096, 3},
-                                                 {"bush", 729, 3},
-                                                 {"bush", 15625, 3},
-                                                 {"bush", 16777216, 8},
-                                                 {"bose-bush", 8, 0},
-                                                 {"bose-bush", 128, 0},
-                                                 {"addelman-kempthorne", 18, 0},
-                                                 {"addelman-kempthorne", 162, 0},
-                                                 {"addelman-kempthorne", 1250, 0},
-                                                 {"cmjnd", 4, 2},
-                                                 {"cmjnd", 8, 3},
-                                                 {"cmjnd", 81, 4},
-                                                 {"cmjnd", 32, 5}};
-    for (const auto& h : oas::test::hardCases()) cases.push_back(h);
-    return cases;
-}
-
 std::vector<oas::Pattern> everyPattern()
 {
     std::vector<oas::Pattern> patterns;
-    for (const auto& c : oaCases())
+    for (const auto& c : oas::test::oaCases())
         for (const char* offset : {"centered", "j", "mj", "cmj"}) patterns.push_back(oas::test::patternOf(c, offset));
     const std::vector<std::pair<const char*, std::uint32_t>> baselines = {
         {"random", 4096},      {"jittered2d", 1000}, {"cmj2d", 256},       {"cmj2d", 16777213}, {"zerotwo", 64},
@@ -103,7 +72,7 @@ TEST(Draw, EqualsOasSampleBitForBitForEveryPatternAndZeroBeyondTheCount)
             }
         }
     }
-    EXPECT_GE(patterns.size(), 4u * oaCases().size() + 10);
+    EXPECT_GE(patterns.size(), 4u * oas::test::oaCases().size() + 10);
     EXPECT_GT(values, 1000000u);
 }
 

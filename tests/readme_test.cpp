@@ -75,7 +75,7 @@ std::set<std::string> testedLines()
     for (const char* file :
          {"/examples/consumer-find-package/CMakeLists.txt", "/examples/consumer-add-subdirectory/CMakeLists.txt",
           "/examples/consumer-fetchcontent/CMakeLists.txt", "/examples/common/consumer.cmake", "/examples/common/consumer.comp",
-          "/tests/c/pattern_c_test.c"}) {
+          "/examples/common/consumer.cpp", "/tests/c/pattern_c_test.c"}) {
         const auto fileLines = lines(readFile(root + file));
         EXPECT_FALSE(fileLines.empty()) << file;
         tested.insert(fileLines.begin(), fileLines.end());
@@ -112,7 +112,7 @@ TEST(Readme, EmbeddingGuideShowsTheTestedCode)
 {
     const std::vector<Block> blocks = snippetsOf(readFile(std::string(OAS_SOURCE_DIR) + "/docs/EMBEDDING.md"), "");
     ASSERT_GE(blocks.size(), 7u) << "docs/EMBEDDING.md or its code blocks are missing";
-    EXPECT_EQ(expectSnippetsAreTested(blocks, "docs/EMBEDDING.md"), (std::set<std::string>{"cmake", "glsl", "c"}));
+    EXPECT_EQ(expectSnippetsAreTested(blocks, "docs/EMBEDDING.md"), (std::set<std::string>{"cmake", "glsl", "c", "cpp"}));
 }
 
 TEST(Readme, TheCheckCatchesADriftedLine)

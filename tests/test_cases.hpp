@@ -30,6 +30,37 @@ inline std::vector<SamplerCase> hardCases()
             {"cmjnd", 14348907u, 15}};                       // s = 3, d = 15
 }
 
+/// Every construction over each field kind (prime, GF(2^k), GF(3^k), GF(5^k), odd p^2), small
+/// blocks (where a group of 8 crosses several) and the largest cases.
+inline std::vector<SamplerCase> oaCases()
+{
+    std::vector<SamplerCase> cases = {{"bose", 4, 0},
+                                                 {"bose", 9, 0},
+                                                 {"bose", 64, 0},
+                                                 {"bose", 81, 0},
+                                                 {"bose", 121, 0},
+                                                 {"bose", 625, 0},
+                                                 {"bose", 1024, 0},
+                                                 {"bush", 9, 2},
+                                                 {"bush", 27, 3},
+                                                 {"bush", 125, 3},
+                                                 {"bush", 4096, 3},
+                                                 {"bush", 729, 3},
+                                                 {"bush", 15625, 3},
+                                                 {"bush", 16777216, 8},
+                                                 {"bose-bush", 8, 0},
+                                                 {"bose-bush", 128, 0},
+                                                 {"addelman-kempthorne", 18, 0},
+                                                 {"addelman-kempthorne", 162, 0},
+                                                 {"addelman-kempthorne", 1250, 0},
+                                                 {"cmjnd", 4, 2},
+                                                 {"cmjnd", 8, 3},
+                                                 {"cmjnd", 81, 4},
+                                                 {"cmjnd", 32, 5}};
+    for (const auto& h : hardCases()) cases.push_back(h);
+    return cases;
+}
+
 /// The pattern of a case with an offset (dims: the strength, or 2).
 inline Pattern patternOf(const SamplerCase& c, const char* offset)
 {

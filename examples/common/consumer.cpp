@@ -1,9 +1,11 @@
 // A project that uses oas: it builds patterns on the host (C++ and C APIs), dispatches its own
 // shader (consumer.comp, which includes the GLSL library) and checks every value against the C++
-// twin bit for bit. Exit 0: all identical; 1: a mismatch, a Vulkan error or a validation message;
-// 77: no Vulkan device (unless OAS_REQUIRE_GPU=1, which makes that a failure).
+// twin bit for bit, and against the CPU's bulk evaluation (OaColumns). Exit 0: all identical; 1:
+// a mismatch, a Vulkan error or a validation message; 77: no Vulkan device (unless
+// OAS_REQUIRE_GPU=1, which makes that a failure).
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "oas/oa_columns.hpp"
 #include "oas/oas_pattern.h"
 #include "oas/pattern.hpp"
 
@@ -501,6 +504,20 @@ int runAll()
                                     " cpu " + floatText(cpu);
                     }
             }
+        // The CPU's bulk form (oas/oa_columns.hpp): pixel (0,0), all samples, each dimension at once.
+        if (pattern.construction < OAS_RANDOM) {
+            const oas::OaColumns columns(pattern);
+            const uint32_t seed = oas::pixelSeed(0, 0, kFrameSeed), count = std::min(spp, pattern.N);
+            std::vector<uint32_t> rows(count);
+            std::vector<float> values(count);
+            for (uint32_t d = 0; d < dims; ++d) {
+                columns.rows(seed, d / pattern.blockDims, 0, count, rows.data());
+                columns.values(seed, d, 0, count, rows.data(), values.data());
+                for (uint32_t s = 0; s < count; ++s)
+                    if (std::memcmp(&values[s], &gpuValues[size_t(s) * dims + d], sizeof(float)) != 0 && differ++ == 0)
+                        first = "OaColumns, pixel (0,0) sample " + std::to_string(s) + " dim " + std::to_string(d);
+            }
+        }
         if (differ) {
             std::printf("%s: FAILED: %zu of %zu values differ, first at %s\n", name.c_str(), differ, i, first.c_str());
             ++failures;

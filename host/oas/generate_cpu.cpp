@@ -1,9 +1,11 @@
 // CPU reference generation: the shared GLSL code (glsl_compat.hpp), laid out like the GPU kernel.
 #include <algorithm>
+#include <optional>
 #include <thread>
 #include <vector>
 
 #include "oas/glsl_compat.hpp"
+#include "oas/oa_columns.hpp"
 #include "oas/pattern.hpp"
 
 namespace oas {
@@ -62,26 +64,25 @@ namespace {
     }
 }
 
-// The OAs' fast path, the one the GPU kernel takes too: block and column state once per pass,
-// one row computation per (sample, block). Not oas_draw, which is per sample: it makes the row
-// permutation and column state again for every sample, where this makes them once for the N
-// samples of a pass (the same values, bit for bit). Flattened, as generatePadded2d.
-[[gnu::flatten]] void generateOa(const glsl::OasPattern& pat, std::uint32_t seed, const SampleRequest& r, float* pixelOut,
-                                 std::vector<glsl::OasColumn>& columns)
+// The OAs: OaColumns (oa_columns.hpp), the library's fast path (block and column state once per
+// run, one row per sample and block) run over up to kRunSamples samples of one pass at a time, one
+// dimension per call, vectorized across the samples.
+void generateOa(const OaColumns& columns, std::uint32_t seed, const SampleRequest& r, float* pixelOut,
+                std::vector<std::uint32_t>& rows, std::vector<float>& values)
 {
+    constexpr std::uint32_t kRunSamples = 1024;
+    rows.resize(kRunSamples);
+    values.resize(kRunSamples);
+    const std::uint32_t blockDims = columns.pattern().blockDims;
     for (std::uint32_t done = 0; done < r.spp;) {
         const std::uint32_t first = r.firstSample + done;
-        std::uint32_t count = 0;
-        for (std::uint32_t block = 0, d0 = 0; d0 < r.dims; ++block, d0 += pat.blockDims) {
-            const glsl::OasBlock b = glsl::oas_block(pat, seed, first, block);
-            count = std::min(r.spp - done, pat.N - (first - b.firstIndex));
-            const std::uint32_t cols = std::min(pat.blockDims, r.dims - d0);
-            columns.clear();
-            for (std::uint32_t col = 0; col < cols; ++col) columns.push_back(glsl::oas_column(pat, b.seed, col));
-            for (std::uint32_t k = 0; k < count; ++k) {
-                const glsl::OasRow row = glsl::oas_block_row(b, first + k);
-                float* dst = pixelOut + std::size_t(done + k) * r.dims + d0;
-                for (std::uint32_t col = 0; col < cols; ++col) dst[col] = glsl::oas_column_dim(pat, columns[col], row);
+        const std::uint32_t count = std::min({r.spp - done, columns.samplesLeftInPass(first), kRunSamples});
+        for (std::uint32_t block = 0, d0 = 0; d0 < r.dims; ++block, d0 += blockDims) {
+            columns.rows(seed, block, first, count, rows.data());
+            for (std::uint32_t dim = d0; dim < std::min(d0 + blockDims, r.dims); ++dim) {
+                columns.values(seed, dim, first, count, rows.data(), values.data());
+                float* dst = pixelOut + std::size_t(done) * r.dims + dim;
+                for (std::uint32_t k = 0; k < count; ++k) dst[std::size_t(k) * r.dims] = values[k];
             }
         }
         done += count;
@@ -94,8 +95,11 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
     const glsl::OasPattern pat = toGlsl(pattern);
     const std::uint64_t pixels = std::uint64_t(r.width) * r.height;
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    const bool oa = pat.construction < glsl::OAS_RANDOM;
+    const std::optional<OaColumns> columns = oa ? std::optional<OaColumns>(pattern) : std::nullopt;
     auto work = [&](std::uint64_t begin, std::uint64_t end) {
-        std::vector<glsl::OasColumn> columns;
+        std::vector<std::uint32_t> rows;
+        std::vector<float> values;
         for (std::uint64_t px = begin; px < end; ++px) {
             const std::uint32_t x = r.x0 + std::uint32_t(px % r.width);
             const std::uint32_t y = r.y0 + std::uint32_t(px / r.width);
@@ -105,11 +109,11 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
                 generatePadded2d(pat, seed, r, pixelOut);
                 continue;
             }
-            if (pat.construction >= glsl::OAS_RANDOM) {  // other baselines: per sample, OAS_DRAW_MAX dims a call
+            if (!oa) {  // other baselines: per sample, OAS_DRAW_MAX dims a call
                 generateBaseline(pat, seed, r, pixelOut);
                 continue;
             }
-            generateOa(pat, seed, r, pixelOut, columns);
+            generateOa(*columns, seed, r, pixelOut, rows, values);
         }
     };
     if (threads == 1 || pixels < 2) {

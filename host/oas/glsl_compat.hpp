@@ -44,14 +44,19 @@ inline uint min(uint a, uint b)
     return a < b ? a : b;
 }
 
-// The library's [[unroll]] marks are GLSL's (GL_EXT_control_flow_attributes); C++ needs none.
-#define OAS_UNROLL
+// The library's [[unroll]] marks (GL_EXT_control_flow_attributes) become g++'s unroll pragma: left
+// as loops, the field loops (up to 12 steps) stop g++ vectorizing OaColumns' loops over samples.
+#define OAS_UNROLL _Pragma("GCC unroll 16")
 
 // On a CPU a branch skips work where a GPU would predicate it: the field loops skip the steps
 // past the field's degree (oas_gf.glsl), and the stratum point divides once where K <= 2^16
 // (oas_strata.glsl). A shader gets the same by specialisation (OAS_STATIC_*); the values are the
 // same either way.
+// Code that g++ vectorizes across samples wants the GPU's form instead, where every lane does the
+// same steps (host/oas/oa_columns_variant.inc): it defines OAS_NO_RUNTIME_BRANCHES first.
+#ifndef OAS_NO_RUNTIME_BRANCHES
 #define OAS_RUNTIME_BRANCHES
+#endif
 
 // The C++ twin has the Sobol baseline: its direction numbers come from the host's table.
 #define OAS_SOBOL_DIRECTION(dim, bit) (::oas::sobolDirections()[(dim)*32u + (bit)])

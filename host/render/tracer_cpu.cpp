@@ -2,10 +2,12 @@
 // same flattened scene, dimension plan and OA patterns as the GPU kernel.
 #include <algorithm>
 #include <atomic>
+#include <optional>
 #include <thread>
 #include <vector>
 
 #include "oas/glsl_compat.hpp"
+#include "oas/oa_columns.hpp"
 #include "render/tracer.hpp"
 
 namespace oas::render {
@@ -17,46 +19,46 @@ struct CpuContext {
     const DimensionPlan* plan;
     pt::PtSpecialization spec;  ///< the kernel's specialization constants for the plan (every path kept)
     glsl::OasPattern pattern;
-    std::uint64_t generation;  ///< unique per context: keys the per-thread pass-state memo
+    std::optional<OaColumns> columns;  ///< the pattern's bulk evaluation, where it is an OA
+    std::uint64_t generation;          ///< unique per context: keys the per-thread SampleRunMemo
 };
 thread_local const CpuContext* tContext = nullptr;
 std::atomic<std::uint64_t> gContextGeneration{0};
 
 CpuContext makeContext(const SceneData& data, const DimensionPlan& plan, const Pattern& pattern)
 {
-    return {&data, &plan, specialization(plan, pattern, KernelStage::PathTrace, nullptr), glsl::toGlsl(pattern),
+    const bool oa = pattern.construction < glsl::OAS_RANDOM;
+    return {&data,
+            &plan,
+            specialization(plan, pattern, KernelStage::PathTrace, nullptr),
+            glsl::toGlsl(pattern),
+            oa ? std::optional<OaColumns>(pattern) : std::nullopt,
             ++gContextGeneration};
 }
 
-/// A memo of the library's per-pass state for the pixel a thread is tracing, and nothing else:
-/// the GPU kernel evaluates one sample per invocation and calls oas_draw, but this loop takes a
-/// pixel's samples one after another, and making each OA block's OasBlock (its row permutation)
-/// and each dimension's OasColumn (seeds, permutation keys, field constants) once per (pixel,
-/// pass) instead of once per sample is worth 15-19% of the CPU tracer's OA paths/s on cornell7d and
-/// blue_spheres9d, 5% on interior_deep (measured when oas_draw replaced this file's own fetch). Every value still comes from the library's functions
-/// (oas_block, oas_column, oas_block_row, oas_column_dim: what oas_draw computes through oas_row
-/// and oas_row_dim, bit for bit, as the library defines one through the other).
-struct PassStateMemo {
-    std::uint64_t generation = 0;
-    std::uint32_t seed = 0, pass = 0;
-    std::vector<glsl::OasBlock> blocks;  ///< per OA block
-    std::vector<std::uint8_t> blockMade;
-    std::vector<glsl::OasColumn> columns;  ///< per dimension
-    std::vector<std::uint8_t> columnMade;
+/// How many consecutive samples of a pixel the CPU tracer evaluates each OA dimension for at once.
+constexpr std::uint32_t kSampleRun = 128;
 
-    void reset(const CpuContext& c, std::uint32_t pixelSeed, std::uint32_t passIndex)
-    {
-        generation = c.generation;
-        seed = pixelSeed;
-        pass = passIndex;
-        const std::uint32_t dims = c.plan->sampleDims, blockCount = dims / c.pattern.blockDims + 1;
-        blocks.resize(blockCount);
-        columns.resize(dims);
-        blockMade.assign(blockCount, 0);
-        columnMade.assign(dims, 0);
-    }
+/// The OA values of the samples a thread is about to trace, made a dimension at a time for a run
+/// of up to kSampleRun consecutive samples of one pixel and pass (OaColumns: the library's
+/// functions, vectorized across the run). The GPU kernel evaluates one sample per invocation and
+/// calls oas_draw; this loop takes a pixel's samples one after another, so a dimension's values
+/// for the rest of the run cost a fraction of one value each. A dimension is made when a sample
+/// first asks for it, from that sample to the end of the run: samples the tracer has passed never
+/// ask again, and a deep dimension that only some paths reach is not made for the samples before
+/// the first that reaches it. Every value is oas_sample's, bit for bit (tests/oa_columns_test.cpp).
+struct SampleRunMemo {
+    std::uint64_t generation = 0;
+    std::uint32_t seed = 0;
+    std::uint64_t first = 0, end = 0;       ///< the run's sample indices [first, end), in one pass
+    std::vector<std::uint64_t> rowsFrom;    ///< per OA block: rows are made for [rowsFrom, end)
+    std::vector<std::uint32_t> rows;        ///< [block][index - first]
+    std::vector<std::uint64_t> valuesFrom;  ///< per dimension: values are made for [valuesFrom, end)
+    std::vector<float> values;              ///< [dim][index - first]
 };
-thread_local PassStateMemo tPassState;
+thread_local SampleRunMemo tSampleRun;
+/// One past the last sample index of the batch the thread is tracing (runs stop there).
+thread_local std::uint64_t tBatchEnd = 0;
 
 namespace shared {
 struct PtSampleState;
@@ -103,32 +105,40 @@ PtGlobals pt_globals()
 #include "pt/pt_trace.glsl"
 #pragma GCC diagnostic pop
 
-/// The OA path of pt_cpu_group_dims: oas_draw's values, with the per-pass state from the memo.
-/// Flattened (and so kept out of line): g++ otherwise calls the library's small functions (the
-/// OA level, the permutation steps, the stratum point) out of line for every value.
-[[gnu::flatten, gnu::noinline]] OasDraw pt_cpu_oa_group_dims(PtSampleState st, uint first, uint count)
+/// The OA path of pt_cpu_group_dims: the values from the thread's SampleRunMemo.
+OasDraw pt_cpu_oa_group_dims(PtSampleState st, uint first, uint count)
 {
-    const OasPattern& pat = tContext->pattern;
-    PassStateMemo& m = tPassState;
-    const uint pass = glsl::oas_div_n(pat, st.index);
-    if (m.generation != tContext->generation || m.seed != st.seed || m.pass != pass) m.reset(*tContext, st.seed, pass);
+    const CpuContext& c = *tContext;
+    SampleRunMemo& m = tSampleRun;
+    const std::uint64_t index = st.index;
+    if (m.generation != c.generation || m.seed != st.seed || index < m.first || index >= m.end) {
+        const std::uint32_t dims = c.plan->sampleDims, blocks = dims / c.pattern.blockDims + 1;
+        m.generation = c.generation;
+        m.seed = st.seed;
+        m.first = index;
+        m.end = index + std::min<std::uint64_t>({kSampleRun, c.columns->samplesLeftInPass(st.index),
+                                                 std::max<std::uint64_t>(tBatchEnd, index + 1) - index});
+        m.rowsFrom.assign(blocks, m.end);
+        m.rows.resize(std::size_t(blocks) * kSampleRun);
+        m.valuesFrom.assign(dims, m.end);
+        m.values.resize(std::size_t(dims) * kSampleRun);
+    }
+    const auto offset = std::uint32_t(index - m.first), runLeft = std::uint32_t(m.end - index);
     OasDraw d{};
-    glsl::OasRow row{};
-    for (uint k = 0u, rowBlock = PT_ABSENT; k < count; ++k) {
-        const uint dim = first + k, block = dim / pat.blockDims;
-        if (!m.blockMade[block]) {
-            m.blocks[block] = glsl::oas_block(pat, st.seed, st.index, block);
-            m.blockMade[block] = 1;
+    for (uint k = 0u; k < count; ++k) {
+        const uint dim = first + k;
+        float* values = &m.values[std::size_t(dim) * kSampleRun];
+        if (m.valuesFrom[dim] > index) {
+            const uint block = dim / c.pattern.blockDims;
+            std::uint32_t* rows = &m.rows[std::size_t(block) * kSampleRun];
+            if (m.rowsFrom[block] > index) {
+                c.columns->rows(st.seed, block, st.index, runLeft, rows + offset);
+                m.rowsFrom[block] = index;
+            }
+            c.columns->values(st.seed, dim, st.index, runLeft, rows + offset, values + offset);
+            m.valuesFrom[dim] = index;
         }
-        if (block != rowBlock) {  // one row per block the group touches, as in oas_draw
-            row = glsl::oas_block_row(m.blocks[block], st.index);
-            rowBlock = block;
-        }
-        if (!m.columnMade[dim]) {
-            m.columns[dim] = glsl::oas_column(pat, m.blocks[block].seed, dim - block * pat.blockDims);
-            m.columnMade[dim] = 1;
-        }
-        d.u[k] = glsl::oas_column_dim(pat, m.columns[dim], row);
+        d.u[k] = values[offset];
     }
     return d;
 }
@@ -153,6 +163,7 @@ namespace {
 void bind(const CpuContext* context)
 {
     tContext = context;
+    tBatchEnd = 0;  // single samples (radianceCpu, nextEventCpu): runs of one
     if (!context) return;
 #define PT_BIND_THREAD_CONSTANT(NAME, ID, TYPE, DEFAULT, HOST) shared::NAME = context->spec.NAME;
     PT_PLAN_CONSTANTS(PT_BIND_THREAD_CONSTANT)
@@ -208,6 +219,7 @@ std::uint64_t traceCpu(const SceneData& data, const DimensionPlan& plan, const P
     std::atomic<std::uint64_t> rejectedTotal{0};
     auto work = [&] {
         bind(&context);
+        tBatchEnd = std::uint64_t(b.firstSample) + b.count;
         for (std::uint32_t row; (row = nextRow++) < b.height;) {
             const std::uint32_t py = b.y0 + row;
             for (std::uint32_t px = b.x0; px < b.x0 + b.width; ++px) {

@@ -158,8 +158,11 @@ uint oas_gf_mul_binary(OasField f, uint a, uint b)
     OAS_UNROLL for (uint i = 0u; i < OAS_GF_MAX_BINARY_K; ++i) {
         uint place = OAS_GF_MAX_BINARY_K - 1u - i;
         if (OAS_FIELD_STEP_USED(f, place)) {  // b's bits at k and above are 0, and so is r there
+            // Masks (0 - bit: all ones or none) rather than selects: the same values, and g++
+            // vectorizes a loop over samples around them, where it rejected the selects.
+            uint carry = uint(r >= top);
             uint bit = (b >> place) & 1u;
-            r = (((r << 1u) & (f.q - 1u)) ^ (r >= top ? f.poly : 0u)) ^ (bit != 0u ? a : 0u);
+            r = (((r << 1u) & (f.q - 1u)) ^ ((0u - carry) & f.poly)) ^ ((0u - bit) & a);
         }
     }
     return r;

@@ -45,8 +45,10 @@ uint oas_mulhi(uint a, uint b)
 uint oas_fastdiv(uint x, uint recip, uint l)
 {
     uint t = oas_mulhi(x, recip);
-    uint shift1 = l == 0u ? 0u : 1u;
-    uint shift2 = l == 0u ? 0u : l - 1u;
+    // A conversion, not l == 0 ? 0 : 1: the same shifts, and g++ vectorizes a loop over x around
+    // it, where its vectorizer rejects a select on the loop-invariant l (host/oas/oa_columns.hpp).
+    uint shift1 = uint(l != 0u);
+    uint shift2 = l - shift1;
     return (t + ((x - t) >> shift1)) >> shift2;
 }
 

@@ -1,0 +1,116 @@
+// OaColumns (host/oas/oa_columns.hpp), the CPU's bulk OA evaluation compiled once per
+// construction and field kind and vectorized across samples: every value equals oas_sample (the
+// library's one-value definition) bit for bit, for every construction, field kind and offset,
+// with each instruction set's build of the loops (baseline and, where the CPU has it, AVX2),
+// over seeds, runs that start anywhere in a pass (pass 0, later passes, the last pass before the
+// index wraps) and dimensions at block starts, ends and far blocks; the variant is the
+// specialised one wherever N <= 2^16; bad runs and baselines are refused with the valid range.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <bit>
+#include <set>
+#include <vector>
+
+#include "oas/glsl_compat.hpp"
+#include "oas/oa_columns.hpp"
+#include "test_cases.hpp"
+
+namespace {
+
+/// Dimensions to check: every column of the first block for small blocks, else its first and
+/// last columns; the next block's first columns; a far block.
+std::vector<std::uint32_t> dimsOf(const oas::Pattern& p)
+{
+    std::set<std::uint32_t> dims;
+    const std::uint32_t b = p.blockDims;
+    for (std::uint32_t c = 0; c < std::min(b, 10u); ++c) dims.insert(c);
+    for (std::uint32_t d : {b - 2, b - 1, b, b + 1, 5 * b + b / 2}) dims.insert(d);
+    return {dims.begin(), dims.end()};
+}
+
+/// (first index, count) runs: a whole first pass (at most 600 samples of it), a run inside pass
+/// 1, a pass's last samples, one sample, and the last full pass below 2^32.
+std::vector<std::pair<std::uint32_t, std::uint32_t>> runsOf(const oas::Pattern& p)
+{
+    const std::uint32_t n = p.N, lastPass = (0xffffffffu / n - 1) * n;
+    return {{0u, std::min(n, 600u)},
+            {n + n / 3, std::min(n - n / 3, 77u)},
+            {3 * n - std::min(n, 13u), std::min(n, 13u)},
+            {2 * n + 1, 1u},
+            {lastPass + n - std::min(n, 40u), std::min(n, 40u)}};
+}
+
+TEST(OaColumns, EqualBitForBitToOasSampleForEveryOaPatternAndOffset)
+{
+    std::size_t values = 0, patterns = 0;
+    for (const auto& c : oas::test::oaCases())
+        for (const char* offset : {"centered", "j", "mj", "cmj"})
+            for (oas::CpuIsa isa : {oas::CpuIsa::Baseline, oas::CpuIsa::Avx2}) {
+                const oas::Pattern pattern = oas::test::patternOf(c, offset);
+                const oas::OaColumns columns(pattern, isa);
+                const auto p = oas::glsl::toGlsl(pattern);
+                patterns += isa == oas::CpuIsa::Baseline;
+                for (std::uint32_t seed : {0u, 0x9e3779b9u, oas::glsl::oas_pixel_seed(511u, 7u, 3u)})
+                    for (const auto& [first, count] : runsOf(pattern)) {
+                        std::vector<std::uint32_t> rows(count);
+                        std::vector<float> out(count);
+                        std::uint32_t rowsBlock = ~0u;
+                        for (std::uint32_t dim : dimsOf(pattern)) {
+                            const std::uint32_t block = dim / pattern.blockDims;
+                            if (block != rowsBlock) columns.rows(seed, block, first, count, rows.data());
+                            rowsBlock = block;
+                            columns.values(seed, dim, first, count, rows.data(), out.data());
+                            for (std::uint32_t k = 0; k < count; ++k) {
+                                const float expected = oas::glsl::oas_sample(p, seed, first + k, dim);
+                                ASSERT_EQ(std::bit_cast<std::uint32_t>(out[k]), std::bit_cast<std::uint32_t>(expected))
+                                    << oas::describe(pattern) << " (" << columns.variantName() << ", isa " << int(columns.isa())
+                                    << ") seed " << seed << " index " << first + k << " dim " << dim;
+                            }
+                            values += count;
+                        }
+                    }
+            }
+    EXPECT_EQ(patterns, 4 * oas::test::oaCases().size());
+    EXPECT_GT(values, 1000000u);
+}
+
+TEST(OaColumns, EveryPatternUpTo65536SamplesHasItsOwnVariant)
+{
+    // The speed of the CPU tracer's OA dimensions rests on this (a generic variant gives the same
+    // values but keeps every pattern switch in the loop, which stops g++ vectorizing it).
+    std::set<std::string> names;
+    for (const auto& c : oas::test::oaCases())
+        for (const char* offset : {"centered", "j", "mj", "cmj"}) {
+            const oas::Pattern pattern = oas::test::patternOf(c, offset);
+            const oas::OaColumns columns(pattern);
+            EXPECT_EQ(columns.specialised(), pattern.N <= 65536u) << oas::describe(pattern) << " " << columns.variantName();
+            names.insert(columns.variantName());
+        }
+    // Per offset: Bose over prime, GF(2^k) and GF(3^k)/GF(5^k); Bush the same; Bose-Bush; AK
+    // prime and odd extension; CMJND. And the generic variant for the hard cases.
+    EXPECT_EQ(names.size(), 4u * 10u + 1u);
+}
+
+TEST(OaColumns, RefusesRunsThatLeaveTheirPassAndBaselinesNamingTheLimit)
+{
+    oas::PatternRequest r;
+    r.sampler = "bose";
+    r.spp = 121;
+    const oas::OaColumns columns(oas::makePattern(r));
+    std::vector<std::uint32_t> rows(200);
+    std::vector<float> out(200);
+    EXPECT_EQ(columns.samplesLeftInPass(120u), 1u);
+    EXPECT_EQ(columns.samplesLeftInPass(121u), 121u);
+    try {
+        columns.rows(1u, 0u, 100u, 22u, rows.data());
+        FAIL() << "a run of 22 samples from index 100 with N = 121 was accepted";
+    } catch (const oas::InvalidArgument& e) {
+        EXPECT_NE(std::string(e.what()).find("at most 21"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(columns.values(1u, 0u, 0u, 122u, rows.data(), out.data()), oas::InvalidArgument);
+    r.sampler = "sobol";
+    EXPECT_THROW(oas::OaColumns{oas::makePattern(r)}, oas::InvalidArgument);
+}
+
+}  // namespace
