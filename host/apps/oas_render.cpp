@@ -214,7 +214,8 @@ int main(int argc, char** argv)
             Progress progress(range.size());
             const auto start = std::chrono::steady_clock::now();
             const std::uint32_t done = oas::render::forEachBatch(
-                window.width(), window.height(), range.end, oas::render::samplesPerBatch(plan, data), seed,
+                window.width(), window.height(), range.end,
+                gpu ? oas::render::samplesPerBatch(plan, data) : oas::render::kCpuSamplesPerBatch, seed,
                 [&](oas::render::SampleBatch batch) {  // the window's tiles, placed in the frame
                     batch.x0 += window.x0;
                     batch.y0 += window.y0;

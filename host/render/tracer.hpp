@@ -35,6 +35,12 @@ struct SampleBatch {
 std::uint32_t samplesPerBatch(const DimensionPlan& plan, const SceneData& data);
 /// The largest batch: bounds a dispatch's length on real GPUs (a watchdog ends long ones).
 constexpr std::uint32_t kMaxSamplesPerBatch = 8;
+/// Samples per batch for the CPU tracer, which has no loop cap: it makes each OA dimension for a
+/// run of a pixel's consecutive samples at once (OaColumns, vectorized across the run), and a run
+/// ends with its batch, so a GPU-sized batch of 8 would leave one vector step per run and the
+/// run's setup (block and column state) unshared. 64 shares it; a pass over the image stays short
+/// enough that stop signals, honoured between passes, are answered in seconds.
+constexpr std::uint32_t kCpuSamplesPerBatch = 64;
 
 /// Visits samples [firstSample, spp) of a width x height image as passes of sample batches, each
 /// pass over tiles of at most kRenderTile^2 pixels (bounded dispatches). `trace` gets every batch;
