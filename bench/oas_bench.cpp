@@ -12,6 +12,7 @@
 
 #include "apps/cli_main.hpp"
 #include "oas/generate_gpu.hpp"
+#include "oas/oa_columns.hpp"
 #include "oas/pattern.hpp"
 
 namespace {
@@ -139,8 +140,9 @@ int main(int argc, char** argv)
             }
         }
         const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-        std::printf("oas-bench: %u pixels x spp x %u dims, median of %d; CPU threads: %u; GPU: %s\n", pixels, dims, repeats,
-                    threads, context ? context->deviceName().c_str() : "none");
+        std::printf("oas-bench: %u pixels x spp x %u dims, median of %d; CPU threads: %u (OA loops: %s); GPU: %s\n", pixels, dims,
+                    repeats, threads, oas::bestCpuIsa() == oas::CpuIsa::Avx2 ? "AVX2" : "baseline ISA",
+                    context ? context->deviceName().c_str() : "none");
         std::printf("%-34s %6s %14s %14s %14s %12s %10s\n", "sampler", "spp", "CPU 1 thr M/s", "CPU all M/s", "GPU M/s",
                     "GPU/hash", "build s");
         // Whole-image CPU buffers get large; the CPU runs cover a slice of the pixels and scale.

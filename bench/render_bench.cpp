@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "apps/cli_main.hpp"
+#include "oas/oa_columns.hpp"
 #include "render/plan.hpp"
 #include "render/scene_data.hpp"
 #include "render/tracer.hpp"
@@ -202,9 +203,10 @@ int main(int argc, char** argv)
             oas::vk::selectLavapipeIfUnset();
             context = std::make_unique<oas::vk::Context>();
         }
-        std::printf("oas-render-bench on %s, scenes at %u px wide, %d alternation(s), CPU threads: %u\n",
+        std::printf("oas-render-bench on %s, scenes at %u px wide, %d alternation(s), CPU threads: %u (OA loops: %s)\n",
                     context ? context->deviceName().c_str() : "no GPU", size, repeats,
-                    std::max(1u, std::thread::hardware_concurrency()));
+                    std::max(1u, std::thread::hardware_concurrency()),
+                    oas::bestCpuIsa() == oas::CpuIsa::Avx2 ? "AVX2" : "baseline ISA");
         auto load = [&](const std::string& name) {
             auto s = oas::scene::loadScene(scenesDir + "/" + name);
             s.height = std::max(1u, s.height * size / s.width);
