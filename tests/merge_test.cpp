@@ -22,6 +22,7 @@
 #include "oas/pattern.hpp"
 #include "render/accumulation.hpp"
 #include "render/render_file.hpp"
+#include "render/tracer.hpp"
 
 namespace fs = std::filesystem;
 using oas::render::Accumulation;
@@ -323,8 +324,9 @@ std::string smallScene(const fs::path& dir, float albedoScale = 1.0f)
 }
 
 /// The frame in one process, then in shards that are uneven, include a one-sample shard, cut
-/// passes (the tracer takes 8 samples per pass here) and are merged out of order: the same
-/// pixels and sums, bit for bit, and the same PNG bytes.
+/// passes (the GPU tracer takes 8 samples per pass here; the CPU one up to kCpuSamplesPerBatch, so
+/// there the shards cut its one pass) and are merged out of order: the same pixels and sums, bit
+/// for bit, and the same PNG bytes.
 void expectShardsMergeExactly(const std::string& device)
 {
     const fs::path dir = scratchDir("cli_" + device);
@@ -472,8 +474,10 @@ TEST(MergeCli, AnInterruptedRenderIsAShardThatTheRestCompletes)
     const fs::path dir = scratchDir("interrupt");
     std::ifstream in(std::string(OAS_SCENES_DIR) + "/cornell7d.json");
     nlohmann::json json = nlohmann::json::parse(in);
-    json["sampler"]["spp"] = 64;  // 8 passes of 8 samples, ~0.1 s each on the CPU here
-    json["resolution"] = {128, 128};
+    // Four passes of kCpuSamplesPerBatch samples (oas-render's CPU batches), ~0.1 s each here.
+    const std::uint32_t spp = 4 * oas::render::kCpuSamplesPerBatch, perPass = oas::render::kCpuSamplesPerBatch;
+    json["sampler"]["spp"] = spp;
+    json["resolution"] = {96, 96};
     const std::string scene = (dir / "scene.json").string();
     std::ofstream(scene) << json.dump();
     const std::string part = (dir / "part.exr").string();
@@ -515,17 +519,17 @@ TEST(MergeCli, AnInterruptedRenderIsAShardThatTheRestCompletes)
     const std::uint32_t done = shard.ranges[0].end;
     EXPECT_EQ(shard.ranges[0].first, 0u);
     ASSERT_GT(done, 0u);
-    ASSERT_LT(done, 64u) << "the render finished before the signal: make it longer";
-    EXPECT_EQ(done % 8, 0u) << "whole passes";
-    const std::string rest = "--samples " + std::to_string(done) + ":64";
+    ASSERT_LT(done, spp) << "the render finished before the signal: make it longer";
+    EXPECT_EQ(done % perPass, 0u) << "whole passes";
+    const std::string rest = "--samples " + std::to_string(done) + ":" + std::to_string(spp);
     EXPECT_NE(output.find(rest), std::string::npos) << "it says how to finish: " << output;
 
     std::string log;
     const std::string render = std::string(OAS_RENDER_EXE) + " " + scene + " --device cpu";
     ASSERT_EQ(run(render + " " + rest + " -o " + (dir / "rest.exr").string(), &log), 0) << log;
     ASSERT_EQ(run(render + " -o " + (dir / "whole.exr").string(), &log), 0) << log;
-    ASSERT_EQ(run(std::string(OAS_MERGE_EXE) + " " + part + " " + (dir / "rest.exr").string() + " --expect 0:64 -o " +
-                      (dir / "merged.exr").string(),
+    ASSERT_EQ(run(std::string(OAS_MERGE_EXE) + " " + part + " " + (dir / "rest.exr").string() +
+                      " --expect 0:" + std::to_string(spp) + " -o " + (dir / "merged.exr").string(),
                   &log),
               0)
         << log;
