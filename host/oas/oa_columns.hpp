@@ -6,11 +6,11 @@
 // Why: a CPU renderer that evaluates a sample's dimensions one at a time pays ~15-30 ns per OA
 // value in scalar code (measured on the CPU tracer). A loop over the samples of one pass for one
 // dimension does the same integer work lane by lane, so g++ vectorizes it, but only when the
-// pattern kind is fixed at compile time: each (construction, field kind) pair is compiled as its
-// own variant with the library's OAS_STATIC_* switches, and the variant is chosen once per
-// pattern (OaColumns' constructor), so no value pays for the pattern switch. Each variant is
-// built for AVX2 and for the baseline ISA, picked at run time (function target attributes:
-// -march is not allowed in a portable build). The values are those of oas_sample, bit for bit
+// pattern kind is fixed at compile time: each (construction, field kind, offset) is compiled as
+// its own variant with the library's OAS_STATIC_* switches, and the variant is chosen once per
+// pattern (OaColumns' constructor), so no value pays for the pattern switch. Each variant that
+// vectorizes is built for AVX2 and for the baseline ISA, picked at run time (function target
+// attributes: -march is not allowed in a portable build). The values are those of oas_sample, bit for bit
 // (tests/oa_columns_test.cpp).
 #include <cstdint>
 
