@@ -44,9 +44,13 @@ inline uint min(uint a, uint b)
     return a < b ? a : b;
 }
 
-// The library's [[unroll]] marks (GL_EXT_control_flow_attributes) become g++'s unroll pragma: left
-// as loops, the field loops (up to 12 steps) stop g++ vectorizing OaColumns' loops over samples.
-#define OAS_UNROLL _Pragma("GCC unroll 16")
+// The library's [[unroll]] marks (GL_EXT_control_flow_attributes) mean nothing to C++ by default.
+// Code that g++ vectorizes defines OAS_UNROLL as its unroll pragma first (oa_columns_variant.inc):
+// left as loops, the field loops stop the vectorizer; everywhere, the pragma made the flattened
+// scalar generator (generate_cpu.cpp) take 160 s to compile instead of seconds.
+#ifndef OAS_UNROLL
+#define OAS_UNROLL
+#endif
 
 // On a CPU a branch skips work where a GPU would predicate it: the field loops skip the steps
 // past the field's degree (oas_gf.glsl), and the stratum point divides once where K <= 2^16
