@@ -10,16 +10,17 @@
 // its own variant with the library's OAS_STATIC_* switches, and the variant is chosen once per
 // pattern (OaColumns' constructor), so no value pays for the pattern switch. Each variant that
 // vectorizes is built for AVX2 and for the baseline ISA, picked at run time (function target
-// attributes: -march is not allowed in a portable build). The values are those of oas_sample, bit for bit
-// (tests/oa_columns_test.cpp).
+// attributes: -march is not allowed in a portable build). The values are those of oas_sample,
+// bit for bit (tests/oa_columns_test.cpp).
 #include <cstdint>
 
 #include "oas/pattern.hpp"
 
 namespace oas {
 
-/// The instruction sets the loops are compiled for. x86-64 gets an AVX2 build of each (eight
-/// 32-bit lanes) besides the baseline one (SSE2), and uses it where the CPU has AVX2.
+/// The instruction sets the loops are compiled for. On x86-64 each variant that vectorizes gets
+/// an AVX2 build (eight 32-bit lanes) besides the baseline one (SSE2), used where the CPU has
+/// AVX2; the others have the baseline build alone, whatever is asked.
 enum class CpuIsa { Baseline = 0, Avx2 = 1 };
 #if defined(__x86_64__) && defined(__GNUC__)
 #define OAS_CPU_HAS_AVX2_VARIANT 1
@@ -33,7 +34,7 @@ namespace detail {
 /// One compiled variant: its name and its two loops (OaColumns documents them), per CpuIsa.
 struct OaColumnKernels {
     const char* name;
-    bool specialised;  ///< compiled for one construction and field kind (false: the generic variant)
+    bool specialised;  ///< compiled for one construction, field kind and offset (false: the generic variant)
     void (*rows[2])(const Pattern&, std::uint32_t pixelSeed, std::uint32_t block, std::uint32_t firstIndex, std::uint32_t count,
                     std::uint32_t* rows);
     void (*values[2])(const Pattern&, std::uint32_t pixelSeed, std::uint32_t dim, std::uint32_t firstIndex, std::uint32_t count,
@@ -65,12 +66,13 @@ public:
     /// The longest run that starts at `firstIndex` and stays in its pass.
     std::uint32_t samplesLeftInPass(std::uint32_t firstIndex) const { return pattern_.N - firstIndex % pattern_.N; }
     const Pattern& pattern() const { return pattern_; }
-    /// Whether a variant compiled for this pattern's construction and field kind serves it (else
-    /// the generic one, with every pattern switch at run time: patterns with N > 2^16).
+    /// Whether a variant compiled for this pattern's construction, field kind and offset serves it
+    /// (else the generic one, with every pattern switch at run time: patterns with N > 2^16).
     bool specialised() const { return kernels_->specialised; }
-    /// The variant's name, e.g. "bose_prime" (benchmarks print it).
+    /// The variant's name, e.g. "bose_prime_cmj" (test messages print it).
     const char* variantName() const { return kernels_->name; }
-    /// The instruction set its loops run with.
+    /// The instruction set asked for and available (a variant that does not vectorize runs its
+    /// baseline build for either).
     CpuIsa isa() const { return isa_; }
 
 private:
