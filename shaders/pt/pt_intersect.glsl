@@ -90,8 +90,11 @@ struct PtHit {
     uint shape;  ///< PT_ABSENT: the ray escaped
 };
 
-/// Closest hit along o + t d, t in (tMin, tMax), through the BVH.
-PtHit pt_trace(vec3 o, vec3 d, float time, float tMin, float tMax)
+/// Closest hit along o + t d, t in (tMin, tMax), through the BVH; with anyHit, the first hit
+/// found (for visibility, where whether there is one is all that counts: it ends the walk at the
+/// first occluder instead of searching on for a closer one). Callers pass anyHit as a constant,
+/// so each use compiles to its own walk.
+PtHit pt_trace_walk(vec3 o, vec3 d, float time, float tMin, float tMax, bool anyHit)
 {
     PtHit hit;
     hit.t = tMax;
@@ -117,6 +120,7 @@ PtHit pt_trace(vec3 o, vec3 d, float time, float tMin, float tMax)
                 if (t < hit.t) {
                     hit.t = t;
                     hit.shape = i;
+                    if (anyHit) return hit;
                 }
             }
             if (sp == 0u) break;
@@ -143,10 +147,16 @@ PtHit pt_trace(vec3 o, vec3 d, float time, float tMin, float tMax)
     return hit;
 }
 
+/// Closest hit along o + t d, t in (tMin, tMax), through the BVH.
+PtHit pt_trace(vec3 o, vec3 d, float time, float tMin, float tMax)
+{
+    return pt_trace_walk(o, d, time, tMin, tMax, false);
+}
+
 /// True when nothing blocks the segment o + t d, t in (tMin, tMax).
 bool pt_visible(vec3 o, vec3 d, float time, float tMin, float tMax)
 {
-    return pt_trace(o, d, time, tMin, tMax).shape == PT_ABSENT;
+    return pt_trace_walk(o, d, time, tMin, tMax, true).shape == PT_ABSENT;
 }
 
 #endif // PT_INTERSECT_GLSL
