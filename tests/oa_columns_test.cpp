@@ -4,7 +4,8 @@
 // with each instruction set's build of the loops (baseline and, where the CPU has it, AVX2),
 // over seeds, runs that start anywhere in a pass (pass 0, later passes, the last pass before the
 // index wraps) and dimensions at block starts, ends and far blocks; the variant is the
-// specialised one wherever N <= 2^16; bad runs and baselines are refused with the valid range.
+// specialised one wherever N <= 2^16 (per degree for binary fields with CMJ offsets, k = 2 .. 5);
+// bad runs and baselines are refused with the valid range.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -41,38 +42,73 @@ std::vector<std::pair<std::uint32_t, std::uint32_t>> runsOf(const oas::Pattern& 
             {lastPass + n - std::min(n, 40u), std::min(n, 40u)}};
 }
 
+/// Checks every value of `pattern`'s OaColumns with instruction set `isa` against oas_sample, over
+/// seeds, runs (runsOf) and dimensions (dimsOf); returns how many values it compared.
+std::size_t expectEqualToOasSample(const oas::Pattern& pattern, oas::CpuIsa isa)
+{
+    const oas::OaColumns columns(pattern, isa);
+    const auto p = oas::glsl::toGlsl(pattern);
+    std::size_t values = 0;
+    for (std::uint32_t seed : {0u, 0x9e3779b9u, oas::glsl::oas_pixel_seed(511u, 7u, 3u)})
+        for (const auto& [first, count] : runsOf(pattern)) {
+            std::vector<std::uint32_t> rows(count);
+            std::vector<float> out(count);
+            std::uint32_t rowsBlock = ~0u;
+            for (std::uint32_t dim : dimsOf(pattern)) {
+                const std::uint32_t block = dim / pattern.blockDims;
+                if (block != rowsBlock) columns.rows(seed, block, first, count, rows.data());
+                rowsBlock = block;
+                columns.values(seed, dim, first, count, rows.data(), out.data());
+                for (std::uint32_t k = 0; k < count; ++k) {
+                    const float expected = oas::glsl::oas_sample(p, seed, first + k, dim);
+                    EXPECT_EQ(std::bit_cast<std::uint32_t>(out[k]), std::bit_cast<std::uint32_t>(expected))
+                        << oas::describe(pattern) << " (" << columns.variantName() << ", isa " << int(columns.isa()) << ") seed "
+                        << seed << " index " << first + k << " dim " << dim;
+                    if (std::bit_cast<std::uint32_t>(out[k]) != std::bit_cast<std::uint32_t>(expected)) return values;
+                }
+                values += count;
+            }
+        }
+    return values;
+}
+
+/// Binary-field patterns with CMJ offsets at every degree that has its own variant
+/// (OAS_OA_COLUMN_DEGREE_VARIANTS, k = 2 .. 5) and the next one up (k = 6, which takes the
+/// variant that runs every multiply step), for Bose (q = 2^k, N = q^2) and Bose-Bush (its field
+/// is GF(2q): q = 2^(k-1), N = 2 q^2); with the variant name each must get.
+std::vector<std::pair<oas::test::SamplerCase, std::string>> binaryDegreeCases()
+{
+    std::vector<std::pair<oas::test::SamplerCase, std::string>> cases;
+    for (std::uint32_t k = 2; k <= 6; ++k) {
+        const std::uint32_t q = 1u << k, qBoseBush = q / 2;
+        const std::string suffix = k <= 5 ? "_cmj_k" + std::to_string(k) : "_cmj";
+        cases.push_back({{"bose", q * q, 0}, "bose_binary" + suffix});
+        cases.push_back({{"bose-bush", 2 * qBoseBush * qBoseBush, 0}, "bose_bush_binary" + suffix});
+    }
+    return cases;
+}
+
 TEST(OaColumns, EqualBitForBitToOasSampleForEveryOaPatternAndOffset)
 {
     std::size_t values = 0, patterns = 0;
     for (const auto& c : oas::test::oaCases())
         for (const char* offset : {"centered", "j", "mj", "cmj"})
             for (oas::CpuIsa isa : {oas::CpuIsa::Baseline, oas::CpuIsa::Avx2}) {
-                const oas::Pattern pattern = oas::test::patternOf(c, offset);
-                const oas::OaColumns columns(pattern, isa);
-                const auto p = oas::glsl::toGlsl(pattern);
                 patterns += isa == oas::CpuIsa::Baseline;
-                for (std::uint32_t seed : {0u, 0x9e3779b9u, oas::glsl::oas_pixel_seed(511u, 7u, 3u)})
-                    for (const auto& [first, count] : runsOf(pattern)) {
-                        std::vector<std::uint32_t> rows(count);
-                        std::vector<float> out(count);
-                        std::uint32_t rowsBlock = ~0u;
-                        for (std::uint32_t dim : dimsOf(pattern)) {
-                            const std::uint32_t block = dim / pattern.blockDims;
-                            if (block != rowsBlock) columns.rows(seed, block, first, count, rows.data());
-                            rowsBlock = block;
-                            columns.values(seed, dim, first, count, rows.data(), out.data());
-                            for (std::uint32_t k = 0; k < count; ++k) {
-                                const float expected = oas::glsl::oas_sample(p, seed, first + k, dim);
-                                ASSERT_EQ(std::bit_cast<std::uint32_t>(out[k]), std::bit_cast<std::uint32_t>(expected))
-                                    << oas::describe(pattern) << " (" << columns.variantName() << ", isa " << int(columns.isa())
-                                    << ") seed " << seed << " index " << first + k << " dim " << dim;
-                            }
-                            values += count;
-                        }
-                    }
+                values += expectEqualToOasSample(oas::test::patternOf(c, offset), isa);
             }
     EXPECT_EQ(patterns, 4 * oas::test::oaCases().size());
     EXPECT_GT(values, 1000000u);
+}
+
+TEST(OaColumns, BinaryFieldVariantsOfFixedDegreeEqualOasSample)
+{
+    for (const auto& [c, variant] : binaryDegreeCases()) {
+        const oas::Pattern pattern = oas::test::patternOf(c, "cmj");
+        EXPECT_EQ(oas::OaColumns(pattern).variantName(), variant) << oas::describe(pattern);
+        for (oas::CpuIsa isa : {oas::CpuIsa::Baseline, oas::CpuIsa::Avx2})
+            EXPECT_GT(expectEqualToOasSample(pattern, isa), 500u) << oas::describe(pattern);
+    }
 }
 
 TEST(OaColumns, EveryPatternUpTo65536SamplesHasItsOwnVariant)
@@ -80,7 +116,9 @@ TEST(OaColumns, EveryPatternUpTo65536SamplesHasItsOwnVariant)
     // The speed of the CPU tracer's OA dimensions rests on this (a generic variant gives the same
     // values but keeps every pattern switch in the loop, which stops g++ vectorizing it).
     std::set<std::string> names;
-    for (const auto& c : oas::test::oaCases())
+    std::vector<oas::test::SamplerCase> cases = oas::test::oaCases();
+    for (const auto& binary : binaryDegreeCases()) cases.push_back(binary.first);
+    for (const auto& c : cases)
         for (const char* offset : {"centered", "j", "mj", "cmj"}) {
             const oas::Pattern pattern = oas::test::patternOf(c, offset);
             const oas::OaColumns columns(pattern);
@@ -88,8 +126,9 @@ TEST(OaColumns, EveryPatternUpTo65536SamplesHasItsOwnVariant)
             names.insert(columns.variantName());
         }
     // Per offset: Bose over prime, GF(2^k) and GF(3^k)/GF(5^k); Bush the same; Bose-Bush; AK
-    // prime and odd extension; CMJND. And the generic variant for the hard cases.
-    EXPECT_EQ(names.size(), 4u * 10u + 1u);
+    // prime and odd extension; CMJND. The generic variant for the hard cases. With CMJ offsets,
+    // Bose and Bose-Bush over GF(2^k) for k = 2 .. 5.
+    EXPECT_EQ(names.size(), 4u * 10u + 1u + 2u * 4u);
 }
 
 TEST(OaColumns, RefusesRunsThatLeaveTheirPassAndBaselinesNamingTheLimit)

@@ -18,6 +18,9 @@ namespace detail {
     OAS_DECLARE_KERNELS(name##_mj)                                                                                               \
     OAS_DECLARE_KERNELS(name##_cmj)
 OAS_OA_COLUMN_VARIANTS(OAS_DECLARE_VARIANT)
+#define OAS_DECLARE_DEGREE_VARIANT(name, variantConstruction, degree) OAS_DECLARE_KERNELS(name##_cmj_k##degree)
+OAS_OA_COLUMN_DEGREE_VARIANTS(OAS_DECLARE_DEGREE_VARIANT)
+#undef OAS_DECLARE_DEGREE_VARIANT
 OAS_DECLARE_KERNELS(generic)
 #undef OAS_DECLARE_VARIANT
 #undef OAS_DECLARE_KERNELS
@@ -27,10 +30,17 @@ namespace {
 const detail::OaColumnKernels* kernelsFor(const Pattern& p)
 {
     using namespace glsl;
-    // The specialised variants (one per construction, field kind and offset) assume N <= 2^16
+    // The specialised variants (one per construction, field kind and offset, and the binary ones
+    // per degree for CMJ offsets) assume N <= 2^16
     // (OAS_STATIC_SMALL_N); larger patterns (the hard cases, never a renderer's pixel) take the
     // generic variant.
     if (smallN(p) == 1u) {
+#define OAS_MATCH_DEGREE_VARIANT(name, variantConstruction, degree)                                                              \
+    if (p.construction == (variantConstruction) && fieldKind(p) == OAS_FIELD_BINARY && fieldDegree(p) == (degree) &&             \
+        p.offset == OAS_OFFSET_CMJ)                                                                                              \
+        return &detail::name##_cmj_k##degree::kernels;
+        OAS_OA_COLUMN_DEGREE_VARIANTS(OAS_MATCH_DEGREE_VARIANT)
+#undef OAS_MATCH_DEGREE_VARIANT
 #define OAS_MATCH_VARIANT(name, variantConstruction, variantFieldKind)                                                           \
     if (p.construction == (variantConstruction) && fieldKind(p) == (variantFieldKind)) {                                         \
         const detail::OaColumnKernels* const byOffset[] = {&detail::name##_centered::kernels, &detail::name##_j::kernels,        \
