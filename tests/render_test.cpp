@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -245,6 +246,60 @@ TEST(RenderCpu, AllThreadsGiveTheSameBitsAsOneThread)
             }
         }
     }
+}
+
+TEST(RenderCpu, FourLaneBoxTestsEqualTheScalarPtBox)
+{
+    // The CPU walk tests each child box four lanes at once (tracer_cpu.cpp); the shared GLSL's
+    // scalar pt_box is the definition. Boxes: random, flat on an axis, and with the node's index
+    // bits in lane w as the BVH stores them (small integers: denormals as floats, and all ones: a
+    // NaN). Rays: from inside and outside, with direction components from 1e-20 (inverse 1e20, as
+    // pt_trace clamps them) to 1, either sign, half of them aimed into a box; tMax from 0.1 to 10,
+    // or PT_INF. Equal means equal as
+    // floats (a zero's sign may differ) or both PT_INF.
+    std::mt19937 rng(20261204u);
+    std::uniform_real_distribution<float> coord(-4.0f, 4.0f), unit(0.0f, 1.0f);
+    render::SceneData data;
+    const std::uint32_t indexBits[] = {0u, 1u, 7u, 123456u, 0xffffffffu, 0x3f800000u};
+    for (int i = 0; i < 64; ++i) {
+        oas::pt::PtNode n;
+        glm::vec3 a(coord(rng), coord(rng), coord(rng)), b(coord(rng), coord(rng), coord(rng));
+        if (i % 4 == 1) b.y = a.y;  // flat
+        if (i % 8 == 3) b = a;      // a point
+        const glm::vec3 lo = glm::min(a, b), hi = glm::max(a, b);
+        std::uint32_t loW = indexBits[i % 6], hiW = indexBits[(i / 6) % 6];
+        float loWf, hiWf;
+        std::memcpy(&loWf, &loW, 4);
+        std::memcpy(&hiWf, &hiW, 4);
+        n.lo = glm::vec4(lo, loWf);
+        n.hi = glm::vec4(hi, hiWf);
+        data.nodes.push_back(n);
+    }
+    std::size_t hits = 0, misses = 0;
+    for (int ray = 0; ray < 20000; ++ray) {
+        const glm::vec3 o(coord(rng), coord(rng), coord(rng));
+        const std::uint32_t first = std::uint32_t(ray) % (data.nodes.size() - 1);
+        glm::vec3 invD;
+        for (int axis = 0; axis < 3; ++axis) {
+            float d = std::pow(10.0f, -20.0f * unit(rng) * unit(rng) * unit(rng)) * (unit(rng) < 0.5f ? -1.0f : 1.0f);
+            if (ray % 2 == 0) {  // aimed at a point of the first child's box, so that about half hit
+                const auto& n = data.nodes[first];
+                d = n.lo[axis] + (n.hi[axis] - n.lo[axis]) * unit(rng) - o[axis];
+                if (std::abs(d) < 1e-20f) d = 1e-20f;  // pt_trace's clamp
+            }
+            invD[axis] = 1.0f / d;
+        }
+        const float tMax = ray % 5 == 0 ? 1e30f : std::pow(10.0f, 2.0f * unit(rng) - 1.0f);
+        const glm::vec2 simd = render::childrenBoxCpu(data, first, o, invD, tMax);
+        const glm::vec2 scalar = render::childrenBoxScalar(data, first, o, invD, tMax);
+        for (int c = 0; c < 2; ++c) {
+            ASSERT_TRUE(simd[c] == scalar[c])
+                << "ray " << ray << " child " << c << ": " << simd[c] << " vs " << scalar[c] << " (tMax " << tMax << ")";
+            (scalar[c] == 1e30f ? misses : hits) += 1;
+        }
+    }
+    EXPECT_GT(hits, 8000u);
+    EXPECT_GT(misses, 8000u);
 }
 
 TEST(RenderCpu, RunsOfSamplesGiveTheSumsOfOneSampleAtATime)

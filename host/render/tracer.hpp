@@ -95,6 +95,12 @@ glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const P
                        std::uint32_t sampleIndex, std::uint32_t vertex, std::uint32_t material, glm::vec3 x, glm::vec3 n,
                        glm::vec3 wo, float time = 0.0f);
 
+/// The BVH walk's box tests on the CPU, for tests: the entry distances of the children
+/// nodes[first] and nodes[first + 1] as the CPU tracer's walk computes them (four lanes per box),
+/// and as the shared GLSL's scalar pt_box computes them (the GPU kernel's).
+glm::vec2 childrenBoxCpu(const SceneData& data, std::uint32_t first, glm::vec3 origin, glm::vec3 inverseDirection, float tMax);
+glm::vec2 childrenBoxScalar(const SceneData& data, std::uint32_t first, glm::vec3 origin, glm::vec3 inverseDirection, float tMax);
+
 /// What the GPU kernel does per sample (pt_render.comp's PT_STAGE): the path tracer, or for
 /// oas-render-bench --profile's breakdown by elimination, nothing (dispatch and accumulation alone)
 /// or the sample fetches alone.
