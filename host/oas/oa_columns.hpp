@@ -7,8 +7,9 @@
 // value in scalar code (measured on the CPU tracer). A loop over the samples of one pass for one
 // dimension does the same integer work lane by lane, so g++ vectorizes it, but only when the
 // pattern kind is fixed at compile time: each (construction, field kind, offset) is compiled as
-// its own variant with the library's OAS_STATIC_* switches, and the variant is chosen once per
-// pattern (OaColumns' constructor), so no value pays for the pattern switch. Each variant that
+// its own variant with the library's OAS_STATIC_* switches (binary fields with CMJ offsets also
+// per degree, k = 2..5: oa_columns_variants.hpp), and the variant is chosen once per pattern
+// (OaColumns' constructor), so no value pays for the pattern switch. Each variant that
 // vectorizes is built for AVX2 and for the baseline ISA, picked at run time (function target
 // attributes: -march is not allowed in a portable build). The values are those of oas_sample,
 // bit for bit (tests/oa_columns_test.cpp).
