@@ -31,9 +31,8 @@ const detail::OaColumnKernels* kernelsFor(const Pattern& p)
 {
     using namespace glsl;
     // The specialised variants (one per construction, field kind and offset, and the binary ones
-    // per degree for CMJ offsets) assume N <= 2^16
-    // (OAS_STATIC_SMALL_N); larger patterns (the hard cases, never a renderer's pixel) take the
-    // generic variant.
+    // per degree for CMJ offsets, which go first) assume N <= 2^16 (OAS_STATIC_SMALL_N); larger
+    // patterns (the hard cases, never a renderer's pixel) take the generic variant.
     if (smallN(p) == 1u) {
 #define OAS_MATCH_DEGREE_VARIANT(name, variantConstruction, degree)                                                              \
     if (p.construction == (variantConstruction) && fieldKind(p) == OAS_FIELD_BINARY && fieldDegree(p) == (degree) &&             \

@@ -16,6 +16,8 @@
 //   constants  the plan entries of pt/pt_constants.glsl (PT_PLAN_CONSTANTS: the effects, PT_MAX_DEPTH,
 //              PT_RR_START and the dimension plan, PT_ABSENT where the plan has no such dimension),
 //              and the scene features (PT_SCENE_FEATURE_CONSTANTS) when it defines PT_SCENE_FEATURES.
+//   optional   PT_FETCH_GROUP (its own pt_group_dims) and PT_CHILDREN_BOX (its own pt_children_box),
+//              each giving the same results as the GLSL it replaces (the C++ tracer defines both).
 // Only the effects a scene calls for consume sample dimensions; the GPU kernel receives all of
 // the above as specialization constants, so absent effects compile away.
 #ifndef PT_TRACE_GLSL
