@@ -43,18 +43,36 @@ layout(push_constant) uniform RenderParams {
     uint seed;
 } params;
 
-layout(std430, binding = PT_BINDING_SHAPES) readonly buffer Shapes { PtShape shapes[]; };
-layout(std430, binding = PT_BINDING_MATERIALS) readonly buffer Materials { PtMaterial materials[]; };
-layout(std430, binding = PT_BINDING_LIGHTS) readonly buffer Lights { PtLight lights[]; };
-layout(std430, binding = PT_BINDING_NODES) readonly buffer Nodes { PtNode nodes[]; };
+// The scene records as texel buffers of uvec4, each record its vec4 fields in order (the
+// std430/C++ layout of pt_types.glsl). Every lane reads its own record: lavapipe fetches texels
+// for all its lanes at once, while a storage-buffer load at a per-lane index ran one lane at a
+// time (pt_constants.glsl's PT_BINDINGS).
+layout(binding = PT_BINDING_SHAPES) uniform usamplerBuffer shapeTexels;
+layout(binding = PT_BINDING_MATERIALS) uniform usamplerBuffer materialTexels;
+layout(binding = PT_BINDING_LIGHTS) uniform usamplerBuffer lightTexels;
+layout(binding = PT_BINDING_NODES) uniform usamplerBuffer nodeTexels;
 layout(std430, binding = PT_BINDING_GLOBALS) readonly buffer Globals { PtGlobals globals; };
 // Exact per-pixel sums, PT_SUM_WORDS words per pixel (pt/pt_accumulate.glsl).
 layout(std430, binding = PT_BINDING_ACCUMULATION) buffer Accumulation { uint accumulation[]; };
 
-PtShape pt_shape(uint i) { return shapes[i]; }
-PtMaterial pt_material(uint i) { return materials[i]; }
-PtLight pt_light(uint i) { return lights[i]; }
-PtNode pt_node(uint i) { return nodes[i]; }
+/// Field k of record i, records of n vec4s.
+#define PT_TEXEL(texels, i, n, k) uintBitsToFloat(texelFetch(texels, int((i) * (n) + (k))))
+PtShape pt_shape(uint i)
+{
+    return PtShape(PT_TEXEL(shapeTexels, i, 5u, 0u), PT_TEXEL(shapeTexels, i, 5u, 1u), PT_TEXEL(shapeTexels, i, 5u, 2u),
+                   PT_TEXEL(shapeTexels, i, 5u, 3u), PT_TEXEL(shapeTexels, i, 5u, 4u));
+}
+PtMaterial pt_material(uint i)
+{
+    return PtMaterial(PT_TEXEL(materialTexels, i, 3u, 0u), PT_TEXEL(materialTexels, i, 3u, 1u),
+                      PT_TEXEL(materialTexels, i, 3u, 2u));
+}
+PtLight pt_light(uint i)
+{
+    return PtLight(PT_TEXEL(lightTexels, i, 4u, 0u), PT_TEXEL(lightTexels, i, 4u, 1u), PT_TEXEL(lightTexels, i, 4u, 2u),
+                   PT_TEXEL(lightTexels, i, 4u, 3u));
+}
+PtNode pt_node(uint i) { return PtNode(PT_TEXEL(nodeTexels, i, 2u, 0u), PT_TEXEL(nodeTexels, i, 2u, 1u)); }
 PtGlobals pt_globals() { return globals; }
 OasPattern pt_pattern() { return params.pattern; }
 

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
+#include <stdexcept>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -12,6 +14,7 @@
 
 #include "vk/context.hpp"
 #include "vk_smoke_spv.h"
+#include "vk_texels_spv.h"
 
 namespace {
 
@@ -75,6 +78,53 @@ TEST(VkSmoke, DispatchWritesEveryElement)
     // Checked after the buffer and pipeline are gone, so their destruction is covered too.
     EXPECT_TRUE(ctx->validationMessages().empty());
     EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));  // on failure, gtest prints them all
+}
+
+// The path tracer reads its scene records through texel buffers, and a BVH node carries its child
+// index as float bits (a denormal) and shapes carry type ids: every bit pattern must arrive as it
+// was written, NaN payloads and denormals included, not flushed or canonicalised.
+TEST(VkSmoke, TexelBufferBindingCarriesEveryBitPattern)
+{
+    OAS_MAKE_CONTEXT_OR_SKIP(ctx);
+    constexpr uint32_t texels = 1000;  // not a multiple of 64: the shader's bounds check matters
+    {
+        Buffer source(*ctx, texels * 16), copy(*ctx, texels * 16 + 16);
+        auto* in = static_cast<uint32_t*>(source.data());
+        const uint32_t special[] = {0x00000001u, 0x007fffffu, 0x80000001u, 0x7fc00001u, 0xffbfffffu,
+                                    0x7f800000u, 0xff800000u, 0x80000000u, 0xffffffffu, 0x3f800000u};
+        uint32_t state = 12345u;
+        for (uint32_t i = 0; i < texels * 4; ++i) {
+            state = state * 747796405u + 2891336453u;  // PCG's LCG step: every bit varies
+            in[i] = i < std::size(special) ? special[i] : state;
+        }
+        auto* out = static_cast<uint32_t*>(copy.data());
+        out[texels * 4] = 0xDEADBEEFu;
+        ComputePipeline pipe(*ctx, vk_texels_spv, sizeof(vk_texels_spv), 2, 4, {},
+                             {oas::vk::BindingKind::Uint4TexelBuffer, oas::vk::BindingKind::StorageBuffer});
+        Buffer* bufs[] = {&source, &copy};
+        ctx->dispatch(pipe, bufs, &texels, sizeof(texels), (texels + 63) / 64);
+        uint32_t bad = 0;
+        for (uint32_t i = 0; i < texels * 4; ++i) bad += out[i] != in[i];
+        EXPECT_EQ(bad, 0u) << "first word " << std::hex << out[0] << " written as " << in[0];
+        EXPECT_EQ(out[texels * 4], 0xDEADBEEFu);
+    }
+    EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
+}
+
+TEST(VkSmoke, TexelBufferMisuseIsRejectedWithTheLimitNamed)
+{
+    OAS_MAKE_CONTEXT_OR_SKIP(ctx);
+    Buffer ragged(*ctx, 20);  // not a whole number of 16-byte texels
+    try {
+        ragged.uint4View();
+        ADD_FAILURE() << "a 20-byte buffer became a texel buffer";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("16-byte"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("maxTexelBufferElements"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(ComputePipeline(*ctx, vk_texels_spv, sizeof(vk_texels_spv), 2, 4, {}, {oas::vk::BindingKind::StorageBuffer}),
+                 std::invalid_argument);
+    EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
 }
 
 TEST(VkSmoke, ValidationLogIsEmptyAfterFullLifecycle)

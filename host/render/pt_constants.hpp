@@ -24,7 +24,7 @@ namespace oas::render {
 constexpr std::uint32_t kAbsent = pt::PT_ABSENT;
 
 /// Buffers of pt_render.comp: bindings 0 .. kBindingCount - 1 (pt_constants.glsl's PT_BINDINGS).
-#define PT_COUNT_BINDING(NAME, BINDING) +1
+#define PT_COUNT_BINDING(NAME, BINDING, TEXELS) +1
 constexpr std::uint32_t kBindingCount = 0 PT_BINDINGS(PT_COUNT_BINDING);
 #undef PT_COUNT_BINDING
 

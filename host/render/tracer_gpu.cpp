@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
+#include <string_view>
+
+#include <fmt/format.h>
 
 #include "render/tracer.hpp"
 #include "pt_render_spv.h"
@@ -57,8 +60,13 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     const vk::ComputePipeline::SpecConstants spec = {PT_SPEC_CONSTANTS(PT_SPEC_ENTRY)};
 #undef PT_SPEC_ENTRY
     const auto buildStart = std::chrono::steady_clock::now();
+    std::vector<vk::BindingKind> kinds(kBindingCount);
+#define PT_BINDING_KIND(NAME, BINDING, TEXELS)                                                                                   \
+    kinds[BINDING] = (TEXELS) ? vk::BindingKind::Uint4TexelBuffer : vk::BindingKind::StorageBuffer;
+    PT_BINDINGS(PT_BINDING_KIND)
+#undef PT_BINDING_KIND
     pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), kBindingCount,
-                                                      std::uint32_t(sizeof(RenderParams)), spec);
+                                                      std::uint32_t(sizeof(RenderParams)), spec, kinds);
     pipelineBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
     buffers_.resize(kBindingCount);
     buffers_[pt::PT_BINDING_SHAPES] = upload(context_, data.shapes);
@@ -71,6 +79,21 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     buffers_[pt::PT_BINDING_SOBOL_DIRECTIONS] = upload(context_, sobolDirections());
     for (const auto& buffer : buffers_)
         if (!buffer) throw std::logic_error("GpuTracer: a binding of pt_constants.glsl's PT_BINDINGS has no buffer");
+    // The scene records are texel buffers: a scene too large for this device's texel buffers is
+    // named here, before any dispatch, with what to do about it.
+    const auto makeTexelView = [&](std::uint32_t binding, std::string_view name) {
+        try {
+            buffers_[binding]->uint4View();
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(fmt::format("the scene's {} records do not fit this device's texel buffers ({}); "
+                                                    "render it with --device cpu",
+                                                    name.substr(std::string_view("PT_BINDING_").size()), e.what()));
+        }
+    };
+#define PT_MAKE_TEXEL_VIEW(NAME, BINDING, TEXELS)                                                                                \
+    if (TEXELS) makeTexelView(BINDING, #NAME);
+    PT_BINDINGS(PT_MAKE_TEXEL_VIEW)
+#undef PT_MAKE_TEXEL_VIEW
     clear();
 }
 

@@ -387,17 +387,24 @@ void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, 
         dai.pSetLayouts = &layout;
         OAS_VK_CHECK(vkAllocateDescriptorSets(dev, &dai, &set));
         std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+        std::vector<VkBufferView> views(buffers.size());
         std::vector<VkWriteDescriptorSet> writes(buffers.size());
         for (size_t i = 0; i < buffers.size(); ++i) {
             if (!buffers[i]) throw std::invalid_argument(fmt::format("dispatch: buffer {} is null", i));
-            if (buffers[i]->size() > limits_.maxStorageBufferRange)
-                throw std::invalid_argument(fmt::format("dispatch: buffer {} is {} bytes, above maxStorageBufferRange {}", i,
-                                                        buffers[i]->size(), limits_.maxStorageBufferRange));
-            infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
             writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
             writes[i].dstSet = set;
             writes[i].dstBinding = static_cast<uint32_t>(i);
             writes[i].descriptorCount = 1;
+            if (pipe.bindingKinds_[i] == BindingKind::Uint4TexelBuffer) {
+                views[i] = buffers[i]->uint4View();
+                writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+                writes[i].pTexelBufferView = &views[i];
+                continue;
+            }
+            if (buffers[i]->size() > limits_.maxStorageBufferRange)
+                throw std::invalid_argument(fmt::format("dispatch: buffer {} is {} bytes, above maxStorageBufferRange {}", i,
+                                                        buffers[i]->size(), limits_.maxStorageBufferRange));
+            infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
             writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
             writes[i].pBufferInfo = &infos[i];
         }
@@ -447,7 +454,8 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes)
     const VkDevice dev = ctx.device();
     VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     bci.size = bytes;
-    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VkBuffer buf = VK_NULL_HANDLE;
     OAS_VK_CHECK(vkCreateBuffer(dev, &bci, nullptr, &buf));
@@ -492,21 +500,47 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes)
 
 Buffer::Buffer(Buffer&& o) noexcept
     : ctx_(o.ctx_), size_(std::exchange(o.size_, 0)), mapped_(std::exchange(o.mapped_, nullptr)), deviceLocal_(o.deviceLocal_),
-      memory_(std::move(o.memory_)), buffer_(std::move(o.buffer_))
+      memory_(std::move(o.memory_)), buffer_(std::move(o.buffer_)), uint4View_(std::move(o.uint4View_))
 {
 }
 
 Buffer::~Buffer()
 {
-    if (ctx_->broken()) buffer_.leak(), memory_.leak();
+    if (ctx_->broken()) uint4View_.leak(), buffer_.leak(), memory_.leak();
+}
+
+VkBufferView Buffer::uint4View()
+{
+    if (uint4View_.get() != VK_NULL_HANDLE) return uint4View_.get();
+    constexpr VkDeviceSize kTexelBytes = 16;
+    const VkDeviceSize texels = size_ / kTexelBytes, limit = ctx_->limits().maxTexelBufferElements;
+    if (size_ % kTexelBytes != 0 || texels > limit)
+        throw std::invalid_argument(fmt::format("Buffer: {} bytes as a texel buffer of uvec4 ({} texels): it must be a whole "
+                                                "number of 16-byte texels, at most {} (the device's maxTexelBufferElements)",
+                                                size_, size_ / double(kTexelBytes), limit));
+    const VkDevice dev = ctx_->device();
+    VkBufferViewCreateInfo vci{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
+    vci.buffer = buffer_.get();
+    vci.format = VK_FORMAT_R32G32B32A32_UINT;  // uniform-texel-buffer support is required for it by the spec
+    vci.offset = 0;
+    vci.range = VK_WHOLE_SIZE;
+    VkBufferView view = VK_NULL_HANDLE;
+    OAS_VK_CHECK(vkCreateBufferView(dev, &vci, nullptr, &view));
+    uint4View_ = detail::Owned<VkBufferView>(view, [dev](VkBufferView v) { vkDestroyBufferView(dev, v, nullptr); });
+    return view;
 }
 
 // ---------------------------------------------------------------- ComputePipeline
 
 ComputePipeline::ComputePipeline(Context& ctx, const uint32_t* code, size_t byteSize, uint32_t bindingCount,
-                                 uint32_t pushConstantBytes, const SpecConstants& specConstants)
-    : ctx_(&ctx), bindingCount_(bindingCount), pushBytes_(pushConstantBytes)
+                                 uint32_t pushConstantBytes, const SpecConstants& specConstants,
+                                 std::vector<BindingKind> bindingKinds)
+    : ctx_(&ctx), bindingCount_(bindingCount), pushBytes_(pushConstantBytes), bindingKinds_(std::move(bindingKinds))
 {
+    if (bindingKinds_.empty()) bindingKinds_.assign(bindingCount, BindingKind::StorageBuffer);
+    if (bindingKinds_.size() != bindingCount)
+        throw std::invalid_argument(
+            fmt::format("ComputePipeline: {} binding kinds for {} bindings", bindingKinds_.size(), bindingCount));
     if (!code || byteSize == 0 || byteSize % 4 != 0)
         throw std::invalid_argument("ComputePipeline: SPIR-V must be a non-empty multiple of 4 bytes");
     if (pushConstantBytes % 4 != 0 || pushConstantBytes > ctx.limits().maxPushConstantsSize)
@@ -524,8 +558,13 @@ ComputePipeline::ComputePipeline(Context& ctx, const uint32_t* code, size_t byte
     detail::Owned<VkShaderModule> module(sm, [dev](VkShaderModule m) { vkDestroyShaderModule(dev, m, nullptr); });
 
     std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
-    for (uint32_t i = 0; i < bindingCount; ++i)
-        bindings[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    uint32_t texelBindings = 0;
+    for (uint32_t i = 0; i < bindingCount; ++i) {
+        const bool texels = bindingKinds_[i] == BindingKind::Uint4TexelBuffer;
+        texelBindings += texels;
+        bindings[i] = {i, texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
+                       VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+    }
     VkDescriptorSetLayoutCreateInfo dlci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dlci.bindingCount = bindingCount;
     dlci.pBindings = bindings.data();
@@ -564,11 +603,13 @@ ComputePipeline::ComputePipeline(Context& ctx, const uint32_t* code, size_t byte
     pipeline_ = detail::Owned<VkPipeline>(p, [dev](VkPipeline h) { vkDestroyPipeline(dev, h, nullptr); });
 
     if (bindingCount > 0) {
-        const VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindingCount};
+        std::vector<VkDescriptorPoolSize> sizes;
+        if (bindingCount > texelBindings) sizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindingCount - texelBindings});
+        if (texelBindings > 0) sizes.push_back({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, texelBindings});
         VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         dpci.maxSets = 1;
-        dpci.poolSizeCount = 1;
-        dpci.pPoolSizes = &size;
+        dpci.poolSizeCount = static_cast<uint32_t>(sizes.size());
+        dpci.pPoolSizes = sizes.data();
         VkDescriptorPool pool = VK_NULL_HANDLE;
         OAS_VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &pool));
         pool_ = detail::Owned<VkDescriptorPool>(pool, [dev](VkDescriptorPool h) { vkDestroyDescriptorPool(dev, h, nullptr); });

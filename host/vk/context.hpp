@@ -70,6 +70,13 @@ private:
 
 class Context;
 
+/// What a pipeline binding is. Storage buffers are read and written per lane; a texel buffer of
+/// uvec4 (R32G32B32A32_UINT, `usamplerBuffer` in GLSL) is read-only. Lavapipe (Mesa 22.3) loads
+/// a storage-buffer element whose index differs across lanes one lane at a time, with a branch and
+/// a bounds check per lane, and a texel fetch as one gather for all lanes (measured with perf on
+/// its JIT code: the lane loops were over half of the path tracer's frame).
+enum class BindingKind { StorageBuffer, Uint4TexelBuffer };
+
 class Buffer {
 public:
     Buffer(Context& ctx, VkDeviceSize bytes);
@@ -80,6 +87,10 @@ public:
     VkDeviceSize size() const { return size_; }
     VkBuffer handle() const { return buffer_.get(); }
     bool deviceLocal() const { return deviceLocal_; }
+    /// The whole buffer as texels of uvec4 (R32G32B32A32_UINT), made on first use. Throws
+    /// std::invalid_argument when the size is not a whole number of texels or exceeds the
+    /// device's maxTexelBufferElements.
+    VkBufferView uint4View();
 
 private:
     const Context* ctx_;
@@ -88,13 +99,15 @@ private:
     bool deviceLocal_ = false;
     detail::Owned<VkDeviceMemory> memory_;  // declared first: freed after the buffer using it
     detail::Owned<VkBuffer> buffer_;
+    detail::Owned<VkBufferView> uint4View_;  // declared after the buffer: destroyed before it
 };
 
 class ComputePipeline {
 public:
     using SpecConstants = std::vector<std::pair<uint32_t, uint32_t>>;  // (constant_id, value)
+    /// bindingKinds: one per binding, or empty for bindingCount storage buffers.
     ComputePipeline(Context& ctx, const uint32_t* code, size_t byteSize, uint32_t bindingCount, uint32_t pushConstantBytes,
-                    const SpecConstants& specConstants = {});
+                    const SpecConstants& specConstants = {}, std::vector<BindingKind> bindingKinds = {});
     ComputePipeline(ComputePipeline&&) noexcept = default;
     ComputePipeline& operator=(ComputePipeline&&) = delete;
     ~ComputePipeline();
@@ -107,6 +120,7 @@ private:
     const Context* ctx_;
     uint32_t bindingCount_ = 0;
     uint32_t pushBytes_ = 0;
+    std::vector<BindingKind> bindingKinds_;
     detail::Owned<VkDescriptorSetLayout> setLayout_;
     detail::Owned<VkPipelineLayout> layout_;
     detail::Owned<VkPipeline> pipeline_;
@@ -145,7 +159,7 @@ public:
     void clearValidationMessages();
 
     // Synchronous: returns once the GPU is done and shader writes are visible through
-    // Buffer::data(). buffers[i] is bound to binding i.
+    // Buffer::data(). buffers[i] is bound to binding i, as the pipeline's BindingKind for it says.
     void dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData, uint32_t pushBytes, uint32_t gx,
                   uint32_t gy = 1, uint32_t gz = 1);
 
