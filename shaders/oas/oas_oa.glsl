@@ -337,22 +337,37 @@ OasColumn oas_column(OasPattern pat, uint blockSeed, uint col)
     return c;
 }
 
-/// The value of column c for the sample r, in [0, 1): dimension block * blockDims + c.col.
-float oas_column_dim(OasPattern pat, OasColumn c, OasRow r)
+/// oas_column_dim's last steps, given the sample's level in column c, the level's stratum
+/// (c.strata applied) and, for CMJ offsets, its substratum (c.sub applied to the sublevel; any
+/// value for the other offsets). A caller that evaluates many samples of one column may apply the
+/// column's two permutations through tables of them (host/oas/oa_columns_loops.inc); the values
+/// are the same.
+float oas_column_dim_at(OasPattern pat, OasColumn c, OasRow r, uint level, uint stratum, uint cmjSubstratum)
 {
-    uint level = oas_oa_level_with(pat, r.row, c.col, c.constant);
-    uint stratum = oas_strata_permute(pat, c.strata, level);
     uint offset = OAS_OFFSET(pat);
     uint shiftS = pat.recipShifts & 0xffu;
     if (offset == OAS_OFFSET_CENTERED) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, 0x80000000u);
     uint jitter = oas_hash2(c.jitterSeed, r.index);
     if (offset == OAS_OFFSET_J) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, jitter);
     uint subCount = pat.aux2;  // N / s
-    OasPermutation sub = c.sub;
-    if (offset == OAS_OFFSET_MJ) sub = oas_sub_permutation(pat, oas_hash2(c.seed ^ OAS_TAG_SUB, level));
-    uint substratum = oas_sub_permute(pat, sub, oas_oa_sublevel(pat, r.row, c.col));
+    uint substratum = cmjSubstratum;
+    if (offset == OAS_OFFSET_MJ) {
+        OasPermutation sub = oas_sub_permutation(pat, oas_hash2(c.seed ^ OAS_TAG_SUB, level));
+        substratum = oas_sub_permute(pat, sub, oas_oa_sublevel(pat, r.row, c.col));
+    }
     return oas_stratum_point_fast(stratum * subCount + substratum, pat.N, pat.recipN, (pat.recipShifts >> 16u) & 0xffu,
                                   jitter);
+}
+
+/// The value of column c for the sample r, in [0, 1): dimension block * blockDims + c.col.
+float oas_column_dim(OasPattern pat, OasColumn c, OasRow r)
+{
+    uint level = oas_oa_level_with(pat, r.row, c.col, c.constant);
+    uint stratum = oas_strata_permute(pat, c.strata, level);
+    // CMJ shares one substratum permutation per column; MJ's depends on the level (made inside).
+    uint substratum =
+        OAS_OFFSET(pat) == OAS_OFFSET_CMJ ? oas_sub_permute(pat, c.sub, oas_oa_sublevel(pat, r.row, c.col)) : 0u;
+    return oas_column_dim_at(pat, c, r, level, stratum, substratum);
 }
 
 /// Dimension `col` (< blockDims) of the sample described by `r`, in [0, 1).
