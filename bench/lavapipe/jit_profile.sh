@@ -6,15 +6,17 @@
 #
 #   bench/lavapipe/jit_profile.sh OUTDIR [SCENE [oas-render options...]]
 #
-# Defaults: scenes/cornell7d.json at 512x512 and 1225 spp (a render of a minute or more, so the
+# Defaults: scenes/cornell7d.json at 512x512 and 1225 spp, rendered by build/oas-render (or
+# $OAS_RENDER) (a render of a minute or more, so the
 # sampling window sees steady-state tracing). Needs perf and gdb:
 # scripts/setup.sh linux-perf gdb. Leaves perf.data, code.bin, code.asm, hist.txt in OUTDIR.
 # The figures in docs/BENCHMARKS.md ("texel buffers") came from this script.
 set -euo pipefail
+root=$(cd "$(dirname "$0")/../.." && pwd)
 out=${1:?usage: $0 OUTDIR [SCENE [oas-render options...]]}
-scene=${2:-scenes/cornell7d.json}
+scene=${2:-$root/scenes/cornell7d.json}
 shift $(($# < 2 ? $# : 2))
-render=${OAS_RENDER:-build/oas-render}
+render=${OAS_RENDER:-$root/build/oas-render}
 warmup=${OAS_JIT_WARMUP_S:-8}    # pipeline build and first dispatches, not sampled
 window=${OAS_JIT_WINDOW_S:-6}    # sampled seconds
 for tool in perf gdb objdump python3; do
