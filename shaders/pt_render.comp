@@ -43,15 +43,15 @@ layout(push_constant) uniform RenderParams {
     uint seed;
 } params;
 
-// The scene records as texel buffers of uvec4, each record its vec4 fields in order (the
-// std430/C++ layout of pt_types.glsl). Every lane reads its own record: lavapipe fetches texels
-// for all its lanes at once, while a storage-buffer load at a per-lane index ran one lane at a
-// time (pt_constants.glsl's PT_BINDINGS).
+// The scene data as texel buffers of uvec4, each record its vec4 fields in order (the C++
+// layout of pt_types.glsl): lavapipe fetches texels for all its lanes at once, while it ran a
+// storage-buffer load one lane at a time, even for the globals every lane reads alike
+// (pt_constants.glsl's PT_BINDINGS).
 layout(binding = PT_BINDING_SHAPES) uniform usamplerBuffer shapeTexels;
 layout(binding = PT_BINDING_MATERIALS) uniform usamplerBuffer materialTexels;
 layout(binding = PT_BINDING_LIGHTS) uniform usamplerBuffer lightTexels;
 layout(binding = PT_BINDING_NODES) uniform usamplerBuffer nodeTexels;
-layout(std430, binding = PT_BINDING_GLOBALS) readonly buffer Globals { PtGlobals globals; };
+layout(binding = PT_BINDING_GLOBALS) uniform usamplerBuffer globalTexels;
 // Exact per-pixel sums, PT_SUM_WORDS words per pixel (pt/pt_accumulate.glsl).
 layout(std430, binding = PT_BINDING_ACCUMULATION) buffer Accumulation { uint accumulation[]; };
 
@@ -73,7 +73,12 @@ PtLight pt_light(uint i)
                    PT_TEXEL(lightTexels, i, 4u, 3u));
 }
 PtNode pt_node(uint i) { return PtNode(PT_TEXEL(nodeTexels, i, 2u, 0u), PT_TEXEL(nodeTexels, i, 2u, 1u)); }
-PtGlobals pt_globals() { return globals; }
+PtGlobals pt_globals()
+{
+    return PtGlobals(PT_TEXEL(globalTexels, 0u, 7u, 0u), PT_TEXEL(globalTexels, 0u, 7u, 1u), PT_TEXEL(globalTexels, 0u, 7u, 2u),
+                     PT_TEXEL(globalTexels, 0u, 7u, 3u), PT_TEXEL(globalTexels, 0u, 7u, 4u), PT_TEXEL(globalTexels, 0u, 7u, 5u),
+                     PT_TEXEL(globalTexels, 0u, 7u, 6u));
+}
 OasPattern pt_pattern() { return params.pattern; }
 
 #include "pt/pt_trace.glsl"
@@ -109,7 +114,7 @@ void main()
             ++rejected;
     }
     // One invocation per pixel per dispatch: a plain read-modify-write, no atomics.
-    uint base = (py * uint(globals.image.x) + px) * PT_SUM_WORDS;
+    uint base = (py * uint(pt_globals().image.x) + px) * PT_SUM_WORDS;
     PtSum before;
     before.lo = uvec3(accumulation[base], accumulation[base + 3u], accumulation[base + 6u]);
     before.mid = uvec3(accumulation[base + 1u], accumulation[base + 4u], accumulation[base + 7u]);

@@ -83,16 +83,16 @@ const uint PT_ABSENT = 0xffffffffu;
 #define PT_DECLARE_DEFAULT(NAME, ID, TYPE, DEFAULT, HOST) const TYPE NAME = DEFAULT;
 
 /// pt_render.comp's buffers, X(NAME, BINDING, TEXELS): bindings 0 .. count - 1, each once.
-/// TEXELS true: a read-only texel buffer of uvec4 (usamplerBuffer), for the scene records every
-/// lane reads at its own index; false: a storage buffer. Lavapipe loads a storage-buffer element
-/// at a per-lane index one lane at a time and fetches texels for all lanes at once
+/// TEXELS true: a read-only texel buffer of uvec4 (usamplerBuffer), for the scene data the
+/// tracer reads; false: a storage buffer. Lavapipe loads a storage-buffer element one lane at a
+/// time (even at an index all lanes share) and fetches texels for all lanes at once
 /// (host/vk/context.hpp, BindingKind).
 #define PT_BINDINGS(X) \
     X(PT_BINDING_SHAPES, 0u, true) \
     X(PT_BINDING_MATERIALS, 1u, true) \
     X(PT_BINDING_LIGHTS, 2u, true) \
     X(PT_BINDING_NODES, 3u, true) \
-    X(PT_BINDING_GLOBALS, 4u, false) \
+    X(PT_BINDING_GLOBALS, 4u, true) \
     X(PT_BINDING_ACCUMULATION, 5u, false) \
     X(PT_BINDING_SOBOL_DIRECTIONS, 6u, false)
 #define PT_DECLARE_BINDING(NAME, BINDING, TEXELS) const uint NAME = BINDING;

@@ -1,7 +1,7 @@
 // pt_types.glsl - the path tracer's scene data, shared by the GPU kernel (pt_render.comp, which
-// reads each record's vec4s from a texel buffer of uvec4, and the globals from a std430 storage
-// buffer) and the C++ reference tracer (host/render/pt_types.hpp and tracer_cpu.cpp, through GLM).
-// Everything is built from vec4 so the texel, std430 and C++ layouts agree without padding rules.
+// reads each record's vec4s from a texel buffer of uvec4) and the C++ reference tracer
+// (host/render/pt_types.hpp and tracer_cpu.cpp, through GLM).
+// Everything is built from vec4 so the texel and C++ layouts agree without padding rules.
 #ifndef PT_TYPES_GLSL
 #define PT_TYPES_GLSL
 
