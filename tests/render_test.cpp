@@ -477,9 +477,9 @@ TEST_F(RenderGpu, AgreesWithTheCpuReference)
 
 TEST_F(RenderGpu, SceneFeatureSpecialisationKeepsEverySumBitForBit)
 {
-    // The kernel compiles away the shape types, conductor materials and point/spot lights a scene
-    // lacks (PT_SCENE_FEATURES: pt_trace.glsl, read by pt_intersect, pt_bsdf and pt_light.glsl). The
-    // code that remains is the same, so every shipped scene, which between them have every feature
+    // The kernel compiles away the shape types, conductor materials, point/spot lights and shape
+    // motion a scene lacks (PT_SCENE_FEATURES: pt_trace.glsl, read by pt_intersect, pt_bsdf and
+    // pt_light.glsl). The code that remains is the same, so every shipped scene, which between them have every feature
     // and lack each of them somewhere, gives the same exact sums, word for word, with and without
     // the specialisation.
     bool sawSpecialised = false;
@@ -491,7 +491,7 @@ TEST_F(RenderGpu, SceneFeatureSpecialisationKeepsEverySumBitForBit)
         const auto plan = render::planDimensions(s);
         const auto data = render::flattenScene(s);
         const auto f = render::sceneFeatures(data);
-        sawSpecialised |= !(f.spheres && f.quads && f.triangles && f.conductors && f.pointLights);
+        sawSpecialised |= !(f.spheres && f.quads && f.triangles && f.conductors && f.pointLights && f.movingShapes);
         const auto pattern = patternFor(s, plan, 16);
         auto [batch, unused] = wholeImage(s, 16, 7);
         render::GpuTracer specialised(context(), data, plan, pattern);

@@ -26,12 +26,14 @@ pt::PtShape toPt(const scene::Shape& s)
     case scene::Shape::Type::Sphere:
         p.a = vec4(s.center, s.radius);
         break;
-    case scene::Shape::Type::Quad:
+    case scene::Shape::Type::Quad: {
         type = pt::PT_SHAPE_QUAD;
-        p.a = vec4(s.corner, 0);
-        p.b = vec4(s.edgeU, 0);
-        p.c = vec4(s.edgeV, 0);
+        const vec3 n = glm::cross(s.edgeU, s.edgeV), m = n / glm::dot(n, n);
+        p.a = vec4(s.corner, m.x);
+        p.b = vec4(s.edgeU, m.y);
+        p.c = vec4(s.edgeV, m.z);
         break;
+    }
     case scene::Shape::Type::Triangle:
         type = pt::PT_SHAPE_TRIANGLE;
         p.a = vec4(s.p0, 0);
@@ -112,6 +114,7 @@ SceneFeatures sceneFeatures(const SceneData& data)
         f.spheres |= shape.e.x == pt::PT_SHAPE_SPHERE;
         f.quads |= shape.e.x == pt::PT_SHAPE_QUAD;
         f.triangles |= shape.e.x == pt::PT_SHAPE_TRIANGLE;
+        f.movingShapes |= shape.d.x != 0.0f || shape.d.y != 0.0f || shape.d.z != 0.0f;
     }
     for (const auto& material : data.materials) f.conductors |= material.albedo.w == pt::PT_MAT_CONDUCTOR;
     for (const auto& light : data.lights) f.pointLights |= light.position.w != pt::PT_LIGHT_AREA;

@@ -21,8 +21,9 @@ struct SceneData {
 /// what is absent compiles away.
 struct SceneFeatures {
     bool spheres = false, quads = false, triangles = false;
-    bool conductors = false;   ///< conductor materials (smooth or GGX)
-    bool pointLights = false;  ///< point or spot lights (area lights are emissive shapes)
+    bool conductors = false;    ///< conductor materials (smooth or GGX)
+    bool pointLights = false;   ///< point or spot lights (area lights are emissive shapes)
+    bool movingShapes = false;  ///< shapes with a velocity (a shutter alone moves nothing but the camera's time)
 };
 SceneFeatures sceneFeatures(const SceneData& data);
 

@@ -73,7 +73,8 @@ const uint PT_ABSENT = 0xffffffffu;
     X(PT_HAS_QUADS, 32, bool, true, features.quads) \
     X(PT_HAS_TRIANGLES, 33, bool, true, features.triangles) \
     X(PT_HAS_CONDUCTORS, 34, bool, true, features.conductors) \
-    X(PT_HAS_POINT_LIGHTS, 35, bool, true, features.pointLights)
+    X(PT_HAS_POINT_LIGHTS, 35, bool, true, features.pointLights) \
+    X(PT_HAS_MOVING_SHAPES, 36, bool, true, features.movingShapes)
 
 /// Every specialization constant of pt_render.comp, in constant_id order.
 #define PT_SPEC_CONSTANTS(X) \

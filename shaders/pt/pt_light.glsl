@@ -70,7 +70,7 @@ vec3 pt_next_event(OasDraw d, PtMaterial m, vec3 x, vec3 n, vec3 wo, float time)
     PtShape s = pt_shape(si);
     float u1 = d.u[PT_OFF_LIGHT_UV];
     float u2 = d.u[PT_OFF_LIGHT_UV + 1u];
-    vec3 shift = vec3(s.d) * time;
+    vec3 shift = pt_shape_shift(s, time);
     vec3 p;
     uint type = pt_shape_type(s);
     if (PT_HAS_SPHERES && type == 0u) {

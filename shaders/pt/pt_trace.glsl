@@ -23,7 +23,8 @@
 #ifndef PT_TRACE_GLSL
 #define PT_TRACE_GLSL
 
-// The scene's features: which shape types, conductor materials and point/spot lights it has.
+// The scene's features: which shape types, conductor materials and point/spot lights it has, and
+// whether any shape moves.
 // Lavapipe runs both sides of every branch (its lanes are predicated, not branched), so without
 // them every shape test would pay for the sphere, quad and triangle code, whatever the shape. The
 // GPU kernel defines PT_SCENE_FEATURES and receives them as specialization constants, so a feature

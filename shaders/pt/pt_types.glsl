@@ -11,6 +11,9 @@ const float PT_SHAPE_TRIANGLE = 2.0f;
 
 /// a: sphere centre / quad corner / triangle p0 (w: sphere radius); b: quad edgeU / triangle p1;
 /// c: quad edgeV / triangle p2; d: velocity (world units per unit time); e: (type, material, area, 0).
+/// Quads also carry m = cross(edgeU, edgeV) / |cross(edgeU, edgeV)|^2 in (a.w, b.w, c.w), made once
+/// on the host (pt_quad_m): the intersection's plane normal and its edge-coordinate scale in one
+/// vector, so a ray-quad test needs neither the cross product nor its two divisions.
 struct PtShape {
     vec4 a;
     vec4 b;
