@@ -81,6 +81,41 @@ PtGlobals pt_globals()
 }
 OasPattern pt_pattern() { return params.pattern; }
 
+// The batch's OA sample values, where PT_PREFETCH_DIMS != 0: the generation kernel
+// (oas_generate.comp) wrote them in the dispatch before, [pixel of the tile][sample of the
+// batch][dimension], PT_PREFETCH_DIMS (a multiple of 4) dimensions per sample. Made there, a
+// pixel's block and column state (seeds, permutation keys) is shared by the batch's samples,
+// where oas_draw here makes it again for every sample; on lavapipe that was half of a 7D frame.
+layout(binding = PT_BINDING_SAMPLES) uniform usamplerBuffer sampleTexels;
+
+/// pt_group_dims's values: from the prefetched samples, or oas_draw. The same bits either way
+/// (tests/render_test.cpp compares the sums word for word).
+OasDraw pt_fetch_group(uint seed, uint index, uint first, uint count)
+{
+    if (PT_PREFETCH_DIMS == 0u) return oas_draw(params.pattern, seed, index, first, count);
+    // The sample's dimensions start at a texel boundary; the group's at `first`, which all lanes
+    // share (the vertex loop runs in step), so the three texels holding dimensions first .. first
+    // + 7 are read and each value picked by the shared offset first % 4 (selects, not a private
+    // array: lavapipe reads those through memory). Dimensions past the prefetched ones (the
+    // group after the last vertex, which has count 0) read the sample's last texel instead.
+    uint pixel = gl_GlobalInvocationID.y * params.tileWidth + gl_GlobalInvocationID.x;
+    uint sampleTexel = (pixel * params.sampleCount + (index - params.firstSample)) * (PT_PREFETCH_DIMS / 4u);
+    uint lastTexel = PT_PREFETCH_DIMS / 4u - 1u;
+    uint firstTexel = first / 4u;
+    uint shift = first - firstTexel * 4u;
+    uvec4 t0 = texelFetch(sampleTexels, int(sampleTexel + min(firstTexel, lastTexel)));
+    uvec4 t1 = texelFetch(sampleTexels, int(sampleTexel + min(firstTexel + 1u, lastTexel)));
+    uvec4 t2 = texelFetch(sampleTexels, int(sampleTexel + min(firstTexel + 2u, lastTexel)));
+    uint w[12] = uint[12](t0.x, t0.y, t0.z, t0.w, t1.x, t1.y, t1.z, t1.w, t2.x, t2.y, t2.z, t2.w);
+    OasDraw d;
+    [[unroll]] for (uint k = 0u; k < OAS_DRAW_MAX; ++k) {
+        uint bits = shift == 0u ? w[k] : (shift == 1u ? w[k + 1u] : (shift == 2u ? w[k + 2u] : w[k + 3u]));
+        d.u[k] = k < count ? uintBitsToFloat(bits) : 0.0f;
+    }
+    return d;
+}
+#define PT_FETCH_GROUP pt_fetch_group
+
 #include "pt/pt_trace.glsl"
 #include "pt/pt_accumulate.glsl"
 

@@ -508,6 +508,51 @@ TEST_F(RenderGpu, SceneFeatureSpecialisationKeepsEverySumBitForBit)
     EXPECT_TRUE(sawSpecialised) << "no shipped scene lacks a feature: the test compares a kernel with itself";
 }
 
+TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
+{
+    // The GPU tracer has the generation kernel make each batch's OA values first and reads them
+    // (GpuTracerOptions::prefetchSamples); without it every sample draws its own with oas_draw.
+    // The values are the same bits, so the sums must agree word for word: on every shipped scene
+    // (their plans differ in depth and effects, so in which dimensions the kernel reads, all of
+    // which prefetchDims must cover), across a pass boundary (the batch starts one sample before
+    // the end of the first pass), and in strips (a cap on the points of one generation dispatch
+    // splits the batch's rows, here into strips of two rows and a last one of one).
+    for (const char* name : {"cornell7d.json", "blue_spheres9d.json", "interior_deep.json", "furnace.json",
+                             "plane_rect_light.json", "mesh_demo.json"}) {
+        auto s = loadTestScene(name);
+        s.width = 16;
+        s.height = 9;
+        const auto plan = render::planDimensions(s);
+        const auto data = render::flattenScene(s);
+        const auto pattern = patternFor(s, plan, 16);
+        ASSERT_NE(render::prefetchDims(plan, pattern), 0u) << name << ": an OA pattern is prefetched";
+        ASSERT_EQ(render::prefetchDims(plan, pattern) % 4, 0u) << name << ": whole texels per sample";
+        render::GpuTracer inlineFetch(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, false});
+        render::SampleBatch batch;
+        batch.width = s.width;
+        batch.height = s.height;
+        batch.count = std::max(2u, inlineFetch.samplesPerBatch());
+        batch.firstSample = pattern.N - 1;
+        batch.seed = 11;
+        inlineFetch.trace(batch);
+        const auto expected = inlineFetch.accumulation();
+        // Uncapped, a batch is one strip (the other RenderGpu tests render that way).
+        const std::uint64_t cap = std::uint64_t(2) * s.width * batch.count;
+        render::GpuTracer prefetched(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, true, cap});
+        prefetched.trace(batch);
+        const auto a = prefetched.accumulation();
+        ASSERT_EQ(a.words.size(), expected.words.size()) << name;
+        EXPECT_TRUE(a.words == expected.words) << name << ": the prefetched samples' sums differ";
+        double total = 0;
+        for (std::size_t i = 0; i < expected.pixelCount(); ++i) total += render::meanValue(expected.pixel(i), 0);
+        EXPECT_GT(total, 0.0) << name << " renders black: the comparison would prove nothing";
+    }
+    // The baselines draw inline: their values are a few hashes, with no per-pass state to share.
+    auto s = loadTestScene("cornell7d.json");
+    const auto plan = render::planDimensions(s);
+    EXPECT_EQ(render::prefetchDims(plan, patternFor(s, plan, 16, "random")), 0u);
+}
+
 TEST_F(RenderGpu, BatchesOfSamplesPerDispatchGiveTheSumsOfOneSampleAtATime)
 {
     // Lavapipe ends an invocation's loops after 65535 iterations in all, silently: a batch too large

@@ -12,7 +12,7 @@
 namespace oas {
 namespace {
 constexpr std::uint32_t kLocalSize = 64;  // local_size_x of oas_generate.comp
-constexpr std::uint32_t kGroupDims = 2;   // OAS_GROUP_DIMS of oas_generate.comp (OAs)
+constexpr std::uint32_t kGroupDims = 4;   // OAS_GROUP_DIMS of oas_generate.comp (OAs)
 // Baselines: one sample x 8 dims per invocation, so neighbouring lanes take the same dimensions
 // of neighbouring samples (the same Halton base and Sobol direction numbers in every lane).
 constexpr std::uint32_t kBaselineGroupDims = 8;
@@ -45,7 +45,7 @@ struct Layout {
 
 /// Lavapipe (Mesa 22.3) silently ends an invocation's loops after 65535 iterations in all. The
 /// library's loops all unroll (tests/loop_free_test.cpp), so only the kernel's own loops count:
-/// a run of 128 samples x 2 dimensions is far below the cap for every construction and field.
+/// a run of 128 samples x 4 dimensions is far below the cap for every construction and field.
 std::uint32_t samplesPerRun(const Pattern& p)
 {
     if (p.construction >= glsl::OAS_RANDOM && !isPadded2d(p)) return 1;  // see kBaselineGroupDims
@@ -113,7 +113,32 @@ std::uint64_t GpuGenerator::pointsPerDispatch(std::uint32_t dims) const
     return points;
 }
 
-void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, float* out)
+std::uint64_t GpuGenerator::runsPerDispatch(const Pattern& pattern, const SampleRequest& r) const
+{
+    const Layout layout = layoutFor(pattern, r);
+    const auto& limits = context_.limits();
+    const std::uint64_t byGroupCount = std::uint64_t(limits.maxComputeWorkGroupCount[0]) * kLocalSize *
+                                       std::min<std::uint32_t>(limits.maxComputeWorkGroupCount[1], 64) / layout.groups;
+    return std::max<std::uint64_t>(1, std::min(pointsPerDispatch(r.dims) / layout.samplesPerRun, byGroupCount));
+}
+
+bool GpuGenerator::fitsOneDispatch(const Pattern& pattern, const SampleRequest& r) const
+{
+    return std::uint64_t(r.width) * r.height * layoutFor(pattern, r).runs <= runsPerDispatch(pattern, r);
+}
+
+vk::Buffer& GpuGenerator::generateOnDevice(const Pattern& pattern, const SampleRequest& request)
+{
+    if (!fitsOneDispatch(pattern, request))
+        throw InvalidArgument(std::to_string(request.width) + "x" + std::to_string(request.height) + " pixels x " +
+                              std::to_string(request.spp) + " samples x " + std::to_string(request.dims) +
+                              " dims take more than one dispatch (at most " + std::to_string(pointsPerDispatch(request.dims)) +
+                              " points): split the request");
+    dispatchAll(pattern, request, nullptr);
+    return *buffer_;
+}
+
+std::uint64_t GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, float* out)
 {
     const Layout layout = layoutFor(pattern, r);
     const std::uint64_t pixels = std::uint64_t(r.width) * r.height;
@@ -124,12 +149,11 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
                               std::to_string(totalRuns * layout.groups) + " work items) exceeds 2^32 - 1; split the request");
     // Chunks are whole runs, so a chunk's points are contiguous in the output.
     const auto& limits = context_.limits();
-    const std::uint64_t byGroupCount = std::uint64_t(limits.maxComputeWorkGroupCount[0]) * kLocalSize *
-                                       std::min<std::uint32_t>(limits.maxComputeWorkGroupCount[1], 64) / layout.groups;
-    const std::uint64_t runsPerChunk =
-        std::max<std::uint64_t>(1, std::min(pointsPerDispatch(r.dims) / layout.samplesPerRun, byGroupCount));
+    const std::uint64_t runsPerChunk = runsPerDispatch(pattern, r);
+    // Whole 16-byte texels, so that a kernel may read the buffer as a texel buffer of uvec4.
     const std::uint64_t chunkBytes =
-        std::max<std::uint64_t>(std::min(runsPerChunk * layout.samplesPerRun, totalPoints) * r.dims * sizeof(float), 4);
+        (std::max<std::uint64_t>(std::min(runsPerChunk * layout.samplesPerRun, totalPoints) * r.dims * sizeof(float), 4) + 15) /
+        16 * 16;
     if (!buffer_ || buffer_->size() < chunkBytes) {
         buffer_.reset();
         buffer_ = std::make_unique<vk::Buffer>(context_, chunkBytes);
@@ -147,7 +171,8 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
         const std::uint64_t pixel = run / layout.runs;
         return pixel * r.spp + (run - pixel * layout.runs) * layout.samplesPerRun;
     };
-    for (std::uint64_t first = 0; first < totalRuns; first += runsPerChunk) {
+    std::uint64_t dispatches = 0;
+    for (std::uint64_t first = 0; first < totalRuns; first += runsPerChunk, ++dispatches) {
         const std::uint64_t runs = std::min(runsPerChunk, totalRuns - first);
         const std::uint64_t firstPoint = pointOfRun(first);
         const std::uint64_t endPoint = first + runs == totalRuns ? totalPoints : pointOfRun(first + runs);
@@ -174,6 +199,7 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
         if (out)
             std::memcpy(out + firstPoint * r.dims, buffer_->data(), std::size_t(endPoint - firstPoint) * r.dims * sizeof(float));
     }
+    return dispatches;
 }
 
 void GpuGenerator::generate(const Pattern& pattern, const SampleRequest& request, float* out)

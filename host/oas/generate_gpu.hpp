@@ -25,6 +25,15 @@ public:
     void generate(const Pattern& pattern, const SampleRequest& request, float* out);
     /// Runs the kernel over the request without copying results back; for benchmarks.
     void run(const Pattern& pattern, const SampleRequest& request) { dispatchAll(pattern, request, nullptr); }
+    /// Whether `request` takes one dispatch (generateOnDevice's condition).
+    bool fitsOneDispatch(const Pattern& pattern, const SampleRequest& request) const;
+    /// Generates the request in one dispatch into the generator's device buffer, [pixel][sample][dim]
+    /// as generate() writes, and returns that buffer (valid until the next call; its size is a whole
+    /// number of 16-byte texels). For kernels that read the samples on the device (the path tracer).
+    /// Throws std::invalid_argument where the request needs more than one dispatch.
+    vk::Buffer& generateOnDevice(const Pattern& pattern, const SampleRequest& request);
+    /// Builds the pattern's pipeline now rather than on first use.
+    void prepare(const Pattern& pattern) { pipelineFor(pattern); }
     /// Points ((pixel, sample) pairs) per dispatch for `dims`, from the device limits.
     std::uint64_t pointsPerDispatch(std::uint32_t dims) const;
     /// Caps points per dispatch below the device limits (tests use it to cover chunk seams); 0: no cap.
@@ -33,7 +42,11 @@ public:
     double pipelineBuildSeconds() const { return pipelineBuildSeconds_; }
 
 private:
-    void dispatchAll(const Pattern& pattern, const SampleRequest& request, float* out);
+    /// Runs the kernel over the request; copies the results to `out` unless it is null. Returns the
+    /// number of dispatches.
+    std::uint64_t dispatchAll(const Pattern& pattern, const SampleRequest& request, float* out);
+    /// Work items (runs of samples) per dispatch for `request`.
+    std::uint64_t runsPerDispatch(const Pattern& pattern, const SampleRequest& request) const;
     vk::ComputePipeline& pipelineFor(const Pattern& pattern);
     vk::Context& context_;
     Kernel kernel_;

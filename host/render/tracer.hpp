@@ -10,6 +10,7 @@
 #include <memory>
 #include <vector>
 
+#include "oas/generate_gpu.hpp"
 #include "oas/pattern.hpp"
 #include "render/accumulation.hpp"
 #include "render/plan.hpp"
@@ -101,6 +102,18 @@ glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const P
 glm::vec2 childrenBoxCpu(const SceneData& data, std::uint32_t first, glm::vec3 origin, glm::vec3 inverseDirection, float tMax);
 glm::vec2 childrenBoxScalar(const SceneData& data, std::uint32_t first, glm::vec3 origin, glm::vec3 inverseDirection, float tMax);
 
+/// One past the last sample dimension pt_radiance fetches for this plan: its camera group and the
+/// groups of vertices 1 .. maxDepth (the last vertex's group may reach past plan.sampleDims: every
+/// vertex group is fetched at the same width). Evaluated with the shared GLSL's own functions
+/// (pt_sample_dims.glsl) on the CPU, so the GPU's prefetch covers exactly what the kernel reads.
+std::uint32_t fetchedDimsEnd(const DimensionPlan& plan, const Pattern& pattern);
+
+/// Dimensions per (pixel, sample) the GPU kernel reads from prefetched samples
+/// (pt_constants.glsl's PT_PREFETCH_DIMS): fetchedDimsEnd rounded up to whole uvec4 texels for
+/// the OA constructions, 0 (each sample's own oas_draw in the kernel) for the baselines, whose
+/// values are a few hashes each with no per-pass state to share.
+std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern);
+
 /// What the GPU kernel does per sample (pt_render.comp's PT_STAGE): the path tracer, or for
 /// oas-render-bench --profile's breakdown by elimination, nothing (dispatch and accumulation alone)
 /// or the sample fetches alone.
@@ -112,6 +125,14 @@ struct GpuTracerOptions {
     /// Compile away the code of shape types, materials and lights the scene lacks (same images);
     /// false keeps all of it, the kernel before this specialisation (the benchmark's baseline).
     bool specialiseSceneFeatures = true;
+    /// Generate each batch's OA sample values in a kernel of their own first (oas_generate.comp,
+    /// which makes a pixel's block and column state once per pass for the batch's samples) and read
+    /// them in the path tracer; false: every sample makes them with oas_draw inside the path
+    /// tracer (the same values; the benchmark's baseline). Baselines always draw inline.
+    bool prefetchSamples = true;
+    /// Caps the points (pixels x samples) one generation dispatch makes; 0: the device's limits.
+    /// A batch with more is traced in strips of rows (tests cover the seams with a small cap).
+    std::uint64_t maxPrefetchPoints = 0;
 };
 
 /// The kernel's specialization constants for a plan and pattern: each field of the table
@@ -152,6 +173,8 @@ private:
     std::uint32_t width_, height_;
     std::unique_ptr<vk::ComputePipeline> pipeline_;
     std::vector<std::unique_ptr<vk::Buffer>> buffers_;
+    std::uint32_t prefetchDims_ = 0;           ///< PT_PREFETCH_DIMS
+    std::unique_ptr<GpuGenerator> generator_;  ///< the batches' samples, where prefetchDims_ != 0
     double pipelineBuildSeconds_ = 0;
     std::uint32_t samplesPerBatch_ = 1;
 };

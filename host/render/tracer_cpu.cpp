@@ -80,8 +80,7 @@ namespace shared {
 /// third of interior_deep's CPU frame (perf); this made it 1.15x faster (render bench).
 glm::vec2 pt_cpu_children_box(std::uint32_t first, glm::vec3 o, glm::vec3 invD, float tMax);
 #define PT_CHILDREN_BOX pt_cpu_children_box
-struct PtSampleState;
-glsl::OasDraw pt_cpu_group_dims(PtSampleState st, std::uint32_t first, std::uint32_t count);
+glsl::OasDraw pt_cpu_group_dims(std::uint32_t seed, std::uint32_t index, std::uint32_t first, std::uint32_t count);
 #define PT_FETCH_GROUP pt_cpu_group_dims
 using namespace glm;
 using namespace oas::pt;
@@ -156,17 +155,17 @@ vec2 pt_cpu_children_box(uint first, vec3 o, vec3 invD, float tMax)
 }
 
 /// The OA path of pt_cpu_group_dims: the values from the thread's SampleRunMemo.
-OasDraw pt_cpu_oa_group_dims(PtSampleState st, uint first, uint count)
+OasDraw pt_cpu_oa_group_dims(uint seed, uint sampleIndex, uint first, uint count)
 {
     const CpuContext& c = *tContext;
     SampleRunMemo& m = tSampleRun;
-    const std::uint64_t index = st.index;
-    if (m.generation != c.generation || m.seed != st.seed || index < m.first || index >= m.end) {
+    const std::uint64_t index = sampleIndex;
+    if (m.generation != c.generation || m.seed != seed || index < m.first || index >= m.end) {
         const std::uint32_t dims = memoDims(*c.plan), blocks = dims / c.pattern.blockDims + 1;
         m.generation = c.generation;
-        m.seed = st.seed;
+        m.seed = seed;
         m.first = index;
-        m.end = index + std::min<std::uint64_t>({kSampleRun, c.columns->samplesLeftInPass(st.index),
+        m.end = index + std::min<std::uint64_t>({kSampleRun, c.columns->samplesLeftInPass(sampleIndex),
                                                  std::max<std::uint64_t>(tBatchEnd, index + 1) - index});
         m.rowsFrom.assign(blocks, m.end);
         m.rows.resize(std::size_t(blocks) * kSampleRun);
@@ -182,10 +181,10 @@ OasDraw pt_cpu_oa_group_dims(PtSampleState st, uint first, uint count)
             const uint block = dim / c.pattern.blockDims;
             std::uint32_t* rows = &m.rows[std::size_t(block) * kSampleRun];
             if (m.rowsFrom[block] > index) {
-                c.columns->rows(st.seed, block, st.index, runLeft, rows + offset);
+                c.columns->rows(seed, block, sampleIndex, runLeft, rows + offset);
                 m.rowsFrom[block] = index;
             }
-            c.columns->values(st.seed, dim, st.index, runLeft, rows + offset, values + offset);
+            c.columns->values(seed, dim, sampleIndex, runLeft, rows + offset, values + offset);
             m.valuesFrom[dim] = index;
         }
         d.u[k] = values[offset];
@@ -195,12 +194,12 @@ OasDraw pt_cpu_oa_group_dims(PtSampleState st, uint first, uint count)
 
 /// pt_group_dims for the CPU: the baselines (and dimensions past memoDims) through oas_draw, the
 /// OAs through the memo.
-OasDraw pt_cpu_group_dims(PtSampleState st, uint first, uint count)
+OasDraw pt_cpu_group_dims(uint seed, uint index, uint first, uint count)
 {
     const OasPattern& pat = tContext->pattern;
     if (pat.construction >= glsl::OAS_RANDOM || first + count > memoDims(*tContext->plan))
-        return oas_draw(pat, st.seed, st.index, first, count);
-    return pt_cpu_oa_group_dims(st, first, count);
+        return oas_draw(pat, seed, index, first, count);
+    return pt_cpu_oa_group_dims(seed, index, first, count);
 }
 
 }  // namespace shared
@@ -257,6 +256,19 @@ glm::vec3 nextEventCpu(const SceneData& data, const DimensionPlan& plan, const P
     st.index = sampleIndex;
     const glsl::OasDraw d = shared::pt_group_dims(st, shared::pt_vertex_dim(vertex, 0u), shared::pt_vertex_dims_used());
     return shared::pt_next_event(d, shared::pt_material(material), x, n, wo, time);
+}
+
+std::uint32_t fetchedDimsEnd(const DimensionPlan& plan, const Pattern& pattern)
+{
+    CpuContext context{};  // the plan's constants alone: no scene, no sampler state
+    context.plan = &plan;
+    context.spec = specialization(plan, pattern, KernelStage::PathTrace, nullptr);
+    const CpuContext* const previous = tContext;
+    bind(&context);
+    std::uint32_t end = shared::pt_camera_dims_used();
+    if (plan.maxDepth >= 1) end = std::max(end, shared::pt_vertex_dim(plan.maxDepth, 0u) + shared::pt_vertex_dims_used());
+    bind(previous);
+    return end;
 }
 
 glm::vec2 childrenBoxCpu(const SceneData& data, std::uint32_t first, glm::vec3 origin, glm::vec3 inverseDirection, float tMax)

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "oas/glsl_compat.hpp"
 #include "render/tracer.hpp"
 #include "pt_render_spv.h"
 
@@ -28,6 +29,12 @@ std::unique_ptr<vk::Buffer> upload(vk::Context& context, const std::vector<T>& i
 }
 
 }  // namespace
+
+std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern)
+{
+    if (pattern.construction >= glsl::OAS_RANDOM) return 0;
+    return (fetchedDimsEnd(plan, pattern) + 3) / 4 * 4;
+}
 
 pt::PtSpecialization specialization(const DimensionPlan& plan, const Pattern& pattern, KernelStage stage,
                                     const SceneFeatures* featuresOrNull)
@@ -54,8 +61,9 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
       height_(std::uint32_t(data.globals.image.y)), samplesPerBatch_(render::samplesPerBatch(plan, data))
 {
     const SceneFeatures features = sceneFeatures(data);
-    const pt::PtSpecialization s =
-        specialization(plan, pattern, options.stage, options.specialiseSceneFeatures ? &features : nullptr);
+    pt::PtSpecialization s = specialization(plan, pattern, options.stage, options.specialiseSceneFeatures ? &features : nullptr);
+    s.PT_PREFETCH_DIMS = options.prefetchSamples ? prefetchDims(plan, pattern) : 0;
+    prefetchDims_ = s.PT_PREFETCH_DIMS;
 #define PT_SPEC_ENTRY(NAME, ID, TYPE, DEFAULT, HOST) {ID, std::uint32_t(s.NAME)},
     const vk::ComputePipeline::SpecConstants spec = {PT_SPEC_CONSTANTS(PT_SPEC_ENTRY)};
 #undef PT_SPEC_ENTRY
@@ -67,6 +75,11 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     const auto buildStart = std::chrono::steady_clock::now();  // times the pipeline build alone
     pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), kBindingCount,
                                                       std::uint32_t(sizeof(RenderParams)), spec, kinds);
+    if (prefetchDims_ != 0) {
+        generator_ = std::make_unique<GpuGenerator>(context_);
+        if (options.maxPrefetchPoints) generator_->setMaxPointsPerDispatch(options.maxPrefetchPoints);
+        generator_->prepare(pattern);
+    }
     pipelineBuildSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
     buffers_.resize(kBindingCount);
     buffers_[pt::PT_BINDING_SHAPES] = upload(context_, data.shapes);
@@ -77,6 +90,8 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     buffers_[pt::PT_BINDING_ACCUMULATION] =
         std::make_unique<vk::Buffer>(context_, std::size_t(width_) * height_ * kSumWords * sizeof(std::uint32_t));
     buffers_[pt::PT_BINDING_SOBOL_DIRECTIONS] = upload(context_, sobolDirections());
+    // Replaced per batch by the generator's buffer where the kernel reads prefetched samples.
+    buffers_[pt::PT_BINDING_SAMPLES] = std::make_unique<vk::Buffer>(context_, 16);
     for (const auto& buffer : buffers_)
         if (!buffer) throw std::logic_error("GpuTracer: a binding of pt_constants.glsl's PT_BINDINGS has no buffer");
     // The scene records are texel buffers: a scene too large for this device's texel buffers is
@@ -188,10 +203,35 @@ std::uint64_t GpuTracer::rejectedSamples() const
 
 void GpuTracer::trace(const SampleBatch& b)
 {
-    RenderParams params{pattern_, b.x0, b.y0, b.width, b.height, b.firstSample, b.count, b.seed};
     std::vector<vk::Buffer*> bindings;
     for (auto& buffer : buffers_) bindings.push_back(buffer.get());
-    context_.dispatch(*pipeline_, bindings, &params, sizeof(params), (b.width + 7) / 8, (b.height + 7) / 8);
+    const auto dispatch = [&](const SampleBatch& part) {
+        RenderParams params{pattern_, part.x0, part.y0, part.width, part.height, part.firstSample, part.count, part.seed};
+        context_.dispatch(*pipeline_, bindings, &params, sizeof(params), (part.width + 7) / 8, (part.height + 7) / 8);
+    };
+    if (prefetchDims_ == 0 || b.width == 0 || b.height == 0 || b.count == 0) return dispatch(b);
+    // The generation kernel writes the batch's values, [pixel of the rectangle][sample][dim], and
+    // the path tracer reads them; a rectangle too large for one generation dispatch goes in strips
+    // of rows (the pixels are independent, so the sums are the same).
+    SampleRequest request;
+    request.x0 = b.x0;
+    request.width = b.width;
+    request.spp = b.count;
+    request.dims = prefetchDims_;
+    request.seed = b.seed;
+    request.firstSample = b.firstSample;
+    std::uint32_t rows = b.height;
+    request.height = rows;
+    while (rows > 1 && !generator_->fitsOneDispatch(pattern_, request)) request.height = rows = (rows + 1) / 2;
+    for (std::uint32_t y = 0; y < b.height; y += rows) {
+        SampleBatch strip = b;
+        strip.y0 = b.y0 + y;
+        strip.height = std::min(rows, b.height - y);
+        request.y0 = strip.y0;
+        request.height = strip.height;
+        bindings[pt::PT_BINDING_SAMPLES] = &generator_->generateOnDevice(pattern_, request);
+        dispatch(strip);
+    }
 }
 
 Accumulation GpuTracer::accumulation() const

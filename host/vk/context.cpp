@@ -421,11 +421,15 @@ void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, 
     if (pushBytes > 0) vkCmdPushConstants(cmd_, pipe.layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, pushData);
     vkCmdDispatch(cmd_, gx, gy, gz);
     // Host writes before submit are made visible by the submission itself; the way back needs an
-    // explicit barrier, or the mapped pointer may show stale data even after the fence.
-    VkMemoryBarrier toHost{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    toHost.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    toHost.dstAccessMask = VK_ACCESS_HOST_READ_BIT;
-    vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &toHost, 0, nullptr, 0,
+    // explicit barrier, or the mapped pointer may show stale data even after the fence. The same
+    // barrier orders this dispatch's writes before the reads of later dispatches (a barrier's
+    // second scope reaches later submissions to the queue): the path tracer reads the samples
+    // the generation kernel wrote in the dispatch before.
+    VkMemoryBarrier written{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    written.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    written.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_SHADER_READ_BIT;
+    vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &written, 0, nullptr, 0,
                          nullptr);
     OAS_VK_CHECK(vkEndCommandBuffer(cmd_));
 

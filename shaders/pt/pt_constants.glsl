@@ -62,8 +62,13 @@ const uint PT_ABSENT = 0xffffffffu;
 /// Profile by elimination (oas-render-bench --profile; KernelStage in host/render/tracer.hpp):
 /// what the kernel does per sample. 0: the path tracer; 1: nothing (dispatch, bounds test and
 /// accumulation only); 2: the sample fetches alone. Renders use 0; the other branches compile away.
+/// PT_PREFETCH_DIMS: 0, or the kernel reads its sample values from the samples texel buffer,
+/// which the generation kernel (oas_generate.comp) filled for the batch just before, this many
+/// dimensions per (pixel, sample), a multiple of 4. GpuTracer sets it (host/render/tracer.hpp,
+/// prefetchDims, which reads the plan constants through specialization(): not a HOST expression).
 #define PT_KERNEL_CONSTANTS(X) \
-    X(PT_STAGE, 30, uint, 0u, stage)
+    X(PT_STAGE, 30, uint, 0u, stage) \
+    X(PT_PREFETCH_DIMS, 37, uint, 0u, 0u)
 
 /// The scene's features (host/render/scene_data.hpp SceneFeatures; defaults in pt/pt_trace.glsl,
 /// tests in pt_intersect, pt_bsdf and pt_light.glsl): the defaults keep every path, the GPU kernel
@@ -95,7 +100,8 @@ const uint PT_ABSENT = 0xffffffffu;
     X(PT_BINDING_NODES, 3u, true) \
     X(PT_BINDING_GLOBALS, 4u, true) \
     X(PT_BINDING_ACCUMULATION, 5u, false) \
-    X(PT_BINDING_SOBOL_DIRECTIONS, 6u, false)
+    X(PT_BINDING_SOBOL_DIRECTIONS, 6u, false) \
+    X(PT_BINDING_SAMPLES, 7u, true)
 #define PT_DECLARE_BINDING(NAME, BINDING, TEXELS) const uint NAME = BINDING;
 PT_BINDINGS(PT_DECLARE_BINDING)
 

@@ -44,8 +44,10 @@ uint pt_vertex_dims_used()
 /// inlines the sampler wherever it is called, and with a call per use (a dozen in the tracer) the
 /// lavapipe pipeline build takes ~20 s, against ~0.1 s with the sampler replaced by one hash.
 #ifdef PT_FETCH_GROUP
-// The host's twin may supply its own fetch with the same values (host/render/tracer_cpu.cpp).
-OasDraw pt_group_dims(PtSampleState st, uint first, uint count) { return PT_FETCH_GROUP(st, first, count); }
+// The includer may supply its own fetch with the same values, PT_FETCH_GROUP(seed, index, first,
+// count): the C++ twin's run memo (host/render/tracer_cpu.cpp), the GPU kernel's prefetched
+// samples (pt_render.comp).
+OasDraw pt_group_dims(PtSampleState st, uint first, uint count) { return PT_FETCH_GROUP(st.seed, st.index, first, count); }
 #else
 OasDraw pt_group_dims(PtSampleState st, uint first, uint count)
 {
