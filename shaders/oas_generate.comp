@@ -56,7 +56,10 @@ layout(push_constant) uniform GenerateParams {
     uint baselineGroupDims;  // baselines: dims per group (kBaselineGroupDims)
 } params;
 
-layout(std430, binding = 0) writeonly buffer Samples { float values[]; };
+// The output as a storage texel buffer of uint: lavapipe stores a texel for all lanes at once,
+// where it writes a storage-buffer element whose index differs across lanes one lane at a time.
+layout(binding = 0, r32ui) uniform writeonly uimageBuffer valueTexels;
+#define OAS_WRITE(at, value) imageStore(valueTexels, int(at), uvec4(floatBitsToUint(value)))
 
 void main()
 {
@@ -92,7 +95,7 @@ void main()
 #ifdef OAS_HASH_ONLY
     for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
         for (uint c = 0u; c < groupDims; ++c)
-            values[outAt + c] = float(oas_hash3(seed, firstDim + c, index) >> 8u) * OAS_INV_2POW24;
+            OAS_WRITE(outAt + c, float(oas_hash3(seed, firstDim + c, index) >> 8u) * OAS_INV_2POW24);
 #else
     // Not oas_draw, here: its loop over OAS_DRAW_MAX dimensions unrolls, so the sampler would be
     // compiled in eight times where this run-time loop has it once, for no gain (a baseline has no
@@ -111,8 +114,8 @@ void main()
             for (uint k = 0u; k < inPass; ++k, ++index, outAt += params.dims) {
                 uint i = index - pass * params.pattern.N;
                 uint cell = oas_pair_cell(x, i);
-                values[outAt] = oas_pair_cell_dim(params.pattern, x, cell, i);
-                if (groupDims > 1u) values[outAt + 1u] = oas_pair_cell_dim(params.pattern, y, cell, i);
+                OAS_WRITE(outAt, oas_pair_cell_dim(params.pattern, x, cell, i));
+                if (groupDims > 1u) OAS_WRITE(outAt + 1u, oas_pair_cell_dim(params.pattern, y, cell, i));
             }
             count -= inPass;
         }
@@ -121,7 +124,7 @@ void main()
     if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {  // other baselines: no per-column state to share
         for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
             for (uint c = 0u; c < groupDims; ++c)
-                values[outAt + c] = oas_sample(params.pattern, seed, index, firstDim + c);
+                OAS_WRITE(outAt + c, oas_sample(params.pattern, seed, index, firstDim + c));
         return;
     }
     // A run may cross the end of a pass (a multiple of N); the state is remade for each pass.
@@ -138,10 +141,10 @@ void main()
         OasColumn c3 = oas_column(params.pattern, b.seed, min(firstCol + 3u, blockDims - 1u));
         for (uint k = 0u; k < inPass; ++k, ++index, outAt += params.dims) {
             OasRow r = oas_block_row(b, index);
-            values[outAt] = oas_column_dim(params.pattern, c0, r);
-            if (groupDims > 1u) values[outAt + 1u] = oas_column_dim(params.pattern, c1, r);
-            if (groupDims > 2u) values[outAt + 2u] = oas_column_dim(params.pattern, c2, r);
-            if (groupDims > 3u) values[outAt + 3u] = oas_column_dim(params.pattern, c3, r);
+            OAS_WRITE(outAt, oas_column_dim(params.pattern, c0, r));
+            if (groupDims > 1u) OAS_WRITE(outAt + 1u, oas_column_dim(params.pattern, c1, r));
+            if (groupDims > 2u) OAS_WRITE(outAt + 2u, oas_column_dim(params.pattern, c2, r));
+            if (groupDims > 3u) OAS_WRITE(outAt + 3u, oas_column_dim(params.pattern, c3, r));
         }
         count -= inPass;
     }

@@ -93,8 +93,10 @@ vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
                     {3, std::get<3>(key)},
                     {4, std::get<4>(key)}};
         const auto start = std::chrono::steady_clock::now();
-        slot = std::make_unique<vk::ComputePipeline>(context_, spirv.code, spirv.bytes, 2, std::uint32_t(sizeof(GenerateParams)),
-                                                     spec);
+        // Binding 0, the output, is a storage texel buffer of uint (oas_generate.comp says why).
+        slot = std::make_unique<vk::ComputePipeline>(
+            context_, spirv.code, spirv.bytes, 2, std::uint32_t(sizeof(GenerateParams)), spec,
+            std::vector<vk::BindingKind>{vk::BindingKind::UintStorageTexelBuffer, vk::BindingKind::StorageBuffer});
         pipelineBuildSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     return *slot;
@@ -107,7 +109,8 @@ std::uint64_t GpuGenerator::pointsPerDispatch(std::uint32_t dims) const
     const auto& limits = context_.limits();
     // Cap a chunk at 64 MiB even where the device allows more: big enough to amortise a submit,
     // small enough that no single dispatch runs long (watchdogs on real GPUs).
-    const std::uint64_t maxBytes = std::min<std::uint64_t>(limits.maxStorageBufferRange, 64ull << 20);
+    const std::uint64_t maxBytes = std::min<std::uint64_t>(
+        {limits.maxStorageBufferRange, 64ull << 20, std::uint64_t(limits.maxTexelBufferElements) * sizeof(float)});
     std::uint64_t points = std::max<std::uint64_t>(1, maxBytes / (std::uint64_t(dims) * sizeof(float)));
     if (maxPointsPerDispatch_) points = std::min(points, maxPointsPerDispatch_);
     return points;

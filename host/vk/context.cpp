@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <string_view>
 
 namespace oas::vk {
@@ -395,9 +396,10 @@ void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, 
             writes[i].dstSet = set;
             writes[i].dstBinding = static_cast<uint32_t>(i);
             writes[i].descriptorCount = 1;
-            if (pipe.bindingKinds_[i] == BindingKind::Uint4TexelBuffer) {
-                views[i] = buffers[i]->uint4View();
-                writes[i].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+            if (pipe.bindingKinds_[i] != BindingKind::StorageBuffer) {
+                const bool uniform = pipe.bindingKinds_[i] == BindingKind::Uint4TexelBuffer;
+                views[i] = uniform ? buffers[i]->uint4View() : buffers[i]->uintView();
+                writes[i].descriptorType = descriptorType(pipe.bindingKinds_[i]);
                 writes[i].pTexelBufferView = &views[i];
                 continue;
             }
@@ -458,8 +460,8 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes)
     const VkDevice dev = ctx.device();
     VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     bci.size = bytes;
-    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-                VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT |
+                VK_BUFFER_USAGE_STORAGE_TEXEL_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     VkBuffer buf = VK_NULL_HANDLE;
     OAS_VK_CHECK(vkCreateBuffer(dev, &bci, nullptr, &buf));
@@ -504,37 +506,62 @@ Buffer::Buffer(Context& ctx, VkDeviceSize bytes) : ctx_(&ctx), size_(bytes)
 
 Buffer::Buffer(Buffer&& o) noexcept
     : ctx_(o.ctx_), size_(std::exchange(o.size_, 0)), mapped_(std::exchange(o.mapped_, nullptr)), deviceLocal_(o.deviceLocal_),
-      memory_(std::move(o.memory_)), buffer_(std::move(o.buffer_)), uint4View_(std::move(o.uint4View_))
+      memory_(std::move(o.memory_)), buffer_(std::move(o.buffer_)), uint4View_(std::move(o.uint4View_)),
+      uintView_(std::move(o.uintView_))
 {
 }
 
 Buffer::~Buffer()
 {
-    if (ctx_->broken()) uint4View_.leak(), buffer_.leak(), memory_.leak();
+    if (ctx_->broken()) uintView_.leak(), uint4View_.leak(), buffer_.leak(), memory_.leak();
 }
 
-VkBufferView Buffer::uint4View()
+VkBufferView Buffer::makeView(detail::Owned<VkBufferView>& slot, VkFormat format, VkDeviceSize texelBytes, const char* what)
 {
-    if (uint4View_.get() != VK_NULL_HANDLE) return uint4View_.get();
-    constexpr VkDeviceSize kTexelBytes = 16;
-    const VkDeviceSize texels = size_ / kTexelBytes, limit = ctx_->limits().maxTexelBufferElements;
-    if (size_ % kTexelBytes != 0 || texels > limit)
-        throw std::invalid_argument(fmt::format("Buffer: {} bytes as a texel buffer of uvec4 ({} texels): it must be a whole "
-                                                "number of 16-byte texels, at most {} (the device's maxTexelBufferElements)",
-                                                size_, size_ / double(kTexelBytes), limit));
+    if (slot.get() != VK_NULL_HANDLE) return slot.get();
+    const VkDeviceSize texels = size_ / texelBytes, limit = ctx_->limits().maxTexelBufferElements;
+    if (size_ % texelBytes != 0 || texels > limit)
+        throw std::invalid_argument(fmt::format("Buffer: {} bytes as a texel buffer of {} ({} texels): it must be a whole "
+                                                "number of {}-byte texels, at most {} (the device's maxTexelBufferElements)",
+                                                size_, what, size_ / double(texelBytes), texelBytes, limit));
     const VkDevice dev = ctx_->device();
     VkBufferViewCreateInfo vci{VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO};
     vci.buffer = buffer_.get();
-    vci.format = VK_FORMAT_R32G32B32A32_UINT;  // uniform-texel-buffer support is required for it by the spec
+    vci.format = format;
     vci.offset = 0;
     vci.range = VK_WHOLE_SIZE;
     VkBufferView view = VK_NULL_HANDLE;
     OAS_VK_CHECK(vkCreateBufferView(dev, &vci, nullptr, &view));
-    uint4View_ = detail::Owned<VkBufferView>(view, [dev](VkBufferView v) { vkDestroyBufferView(dev, v, nullptr); });
+    slot = detail::Owned<VkBufferView>(view, [dev](VkBufferView v) { vkDestroyBufferView(dev, v, nullptr); });
     return view;
 }
 
+// The spec requires both formats' support: R32G32B32A32_UINT for uniform texel buffers, R32_UINT
+// for storage texel buffers.
+VkBufferView Buffer::uint4View()
+{
+    return makeView(uint4View_, VK_FORMAT_R32G32B32A32_UINT, 16, "uvec4");
+}
+
+VkBufferView Buffer::uintView()
+{
+    return makeView(uintView_, VK_FORMAT_R32_UINT, 4, "uint");
+}
+
 // ---------------------------------------------------------------- ComputePipeline
+
+VkDescriptorType descriptorType(BindingKind kind)
+{
+    switch (kind) {
+    case BindingKind::Uint4TexelBuffer:
+        return VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    case BindingKind::UintStorageTexelBuffer:
+        return VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER;
+    case BindingKind::StorageBuffer:
+        break;
+    }
+    return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+}
 
 ComputePipeline::ComputePipeline(Context& ctx, const uint32_t* code, size_t byteSize, uint32_t bindingCount,
                                  uint32_t pushConstantBytes, const SpecConstants& specConstants,
@@ -562,12 +589,11 @@ ComputePipeline::ComputePipeline(Context& ctx, const uint32_t* code, size_t byte
     detail::Owned<VkShaderModule> module(sm, [dev](VkShaderModule m) { vkDestroyShaderModule(dev, m, nullptr); });
 
     std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
-    uint32_t texelBindings = 0;
+    std::map<VkDescriptorType, uint32_t> descriptorsOfType;  // the pool's sizes
     for (uint32_t i = 0; i < bindingCount; ++i) {
-        const bool texels = bindingKinds_[i] == BindingKind::Uint4TexelBuffer;
-        texelBindings += texels;
-        bindings[i] = {i, texels ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1,
-                       VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+        const VkDescriptorType type = descriptorType(bindingKinds_[i]);
+        ++descriptorsOfType[type];
+        bindings[i] = {i, type, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
     }
     VkDescriptorSetLayoutCreateInfo dlci{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     dlci.bindingCount = bindingCount;
@@ -608,8 +634,7 @@ ComputePipeline::ComputePipeline(Context& ctx, const uint32_t* code, size_t byte
 
     if (bindingCount > 0) {
         std::vector<VkDescriptorPoolSize> sizes;
-        if (bindingCount > texelBindings) sizes.push_back({VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, bindingCount - texelBindings});
-        if (texelBindings > 0) sizes.push_back({VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, texelBindings});
+        for (const auto& [type, count] : descriptorsOfType) sizes.push_back({type, count});
         VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
         dpci.maxSets = 1;
         dpci.poolSizeCount = static_cast<uint32_t>(sizes.size());

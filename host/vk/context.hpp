@@ -75,7 +75,11 @@ class Context;
 /// a storage-buffer element whose index differs across lanes one lane at a time, with a branch and
 /// a bounds check per lane, and a texel fetch as one gather for all lanes (measured with perf on
 /// its JIT code: the lane loops were over half of the path tracer's frame).
-enum class BindingKind { StorageBuffer, Uint4TexelBuffer };
+/// A storage texel buffer of uint (R32_UINT, `uimageBuffer` with `r32ui`) is written per lane with
+/// imageStore: the generation kernel's output (oas_generate.comp).
+enum class BindingKind { StorageBuffer, Uint4TexelBuffer, UintStorageTexelBuffer };
+/// The descriptor type of a binding of that kind.
+VkDescriptorType descriptorType(BindingKind kind);
 
 class Buffer {
 public:
@@ -91,6 +95,9 @@ public:
     /// std::invalid_argument when the size is not a whole number of texels or exceeds the
     /// device's maxTexelBufferElements.
     VkBufferView uint4View();
+    /// The whole buffer as storage texels of uint (R32_UINT), made on first use; throws like
+    /// uint4View where it is not a whole number of 4-byte texels or too many of them.
+    VkBufferView uintView();
 
 private:
     const Context* ctx_;
@@ -100,6 +107,8 @@ private:
     detail::Owned<VkDeviceMemory> memory_;  // declared first: freed after the buffer using it
     detail::Owned<VkBuffer> buffer_;
     detail::Owned<VkBufferView> uint4View_;  // declared after the buffer: destroyed before it
+    detail::Owned<VkBufferView> uintView_;
+    VkBufferView makeView(detail::Owned<VkBufferView>& slot, VkFormat format, VkDeviceSize texelBytes, const char* what);
 };
 
 class ComputePipeline {
