@@ -62,7 +62,8 @@ struct Variant {
     bool specialiseSceneFeatures = true;
     std::uint32_t perDispatch = 0;  ///< samples per pixel per dispatch; 0: as oas-render (samplesPerBatch)
     bool primaryHitOnly = false;    ///< maxDepth 1, no light sampling: camera rays to their first hit
-    bool prefetch = true;           ///< OA values from the generation kernel (false: oas_draw per sample)
+    /// OA values from the generation kernel, or drawn per sample in the tracer
+    oas::render::GpuTracerOptions::Prefetch prefetch = oas::render::GpuTracerOptions::Prefetch::WherePays;
 };
 
 Result measure(oas::vk::Context& context, const oas::scene::Scene& scene, const std::string& sampler, std::uint32_t spp,
@@ -152,23 +153,28 @@ void profile(oas::vk::Context& context, const oas::scene::Scene& scene, std::uin
         std::vector<double> ms;
     };
     // Every row at oas-render's samples per dispatch (perDispatch 0) but the last two.
-    auto variant = [](KernelStage stage, bool prefetch = true, std::uint32_t perDispatch = 0, bool primaryHitOnly = false,
-                      bool specialise = true) {
+    using Prefetch = oas::render::GpuTracerOptions::Prefetch;
+    auto variant = [](KernelStage stage, Prefetch prefetch = Prefetch::WherePays, std::uint32_t perDispatch = 0,
+                      bool primaryHitOnly = false, bool specialise = true) {
         return Variant{stage, specialise, perDispatch, primaryHitOnly, prefetch};
     };
     std::vector<Row> rows = {
         {"path tracer, OA (as oas-render)", "oa", variant(KernelStage::PathTrace), {}},
-        {"  with every shape/material/light type", "oa", variant(KernelStage::PathTrace, true, 0, false, false), {}},
-        {"  OA drawn per sample in the tracer", "oa", variant(KernelStage::PathTrace, false), {}},
+        {"  with every shape/material/light type",
+         "oa",
+         variant(KernelStage::PathTrace, Prefetch::WherePays, 0, false, false),
+         {}},
+        {"  OA prefetched by the generation kernel", "oa", variant(KernelStage::PathTrace, Prefetch::Always), {}},
+        {"  OA drawn per sample in the tracer", "oa", variant(KernelStage::PathTrace, Prefetch::Never), {}},
         {"path tracer, independent", "random", variant(KernelStage::PathTrace), {}},
-        {"camera rays to first hit only, OA", "oa", variant(KernelStage::PathTrace, true, 0, true), {}},
-        {"sample fetches only, OA (generation + reads)", "oa", variant(KernelStage::FetchesOnly), {}},
-        {"  OA drawn per sample in the tracer", "oa", variant(KernelStage::FetchesOnly, false), {}},
+        {"camera rays to first hit only, OA", "oa", variant(KernelStage::PathTrace, Prefetch::WherePays, 0, true), {}},
+        {"sample fetches only, OA prefetched", "oa", variant(KernelStage::FetchesOnly, Prefetch::Always), {}},
+        {"  OA drawn per sample in the tracer", "oa", variant(KernelStage::FetchesOnly, Prefetch::Never), {}},
         {"sample fetches only, independent", "random", variant(KernelStage::FetchesOnly), {}},
-        {"OA generation kernel alone", "oa", variant(KernelStage::Nothing), {}},
-        {"nothing (dispatch + accumulation)", "oa", variant(KernelStage::Nothing, false), {}},
-        {"path tracer, OA, 1 spp per dispatch", "oa", variant(KernelStage::PathTrace, true, 1), {}},
-        {"  OA drawn per sample in the tracer", "oa", variant(KernelStage::PathTrace, false, 1), {}},
+        {"OA generation kernel alone", "oa", variant(KernelStage::Nothing, Prefetch::Always), {}},
+        {"nothing (dispatch + accumulation)", "oa", variant(KernelStage::Nothing, Prefetch::Never), {}},
+        {"path tracer, OA prefetched, 1 spp per dispatch", "oa", variant(KernelStage::PathTrace, Prefetch::Always, 1), {}},
+        {"  OA drawn per sample in the tracer", "oa", variant(KernelStage::PathTrace, Prefetch::Never, 1), {}},
     };
     for (int r = 0; r < repeats; ++r)
         for (auto& row : rows) {

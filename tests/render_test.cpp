@@ -511,7 +511,7 @@ TEST_F(RenderGpu, SceneFeatureSpecialisationKeepsEverySumBitForBit)
 TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
 {
     // The GPU tracer has the generation kernel make each batch's OA values first and reads them
-    // (GpuTracerOptions::prefetchSamples); without it every sample draws its own with oas_draw.
+    // (GpuTracerOptions::prefetch); without it every sample draws its own with oas_draw.
     // The values are the same bits, so the sums must agree word for word: on every shipped scene
     // (their plans differ in depth and effects, so in which dimensions the kernel reads, all of
     // which prefetchDims must cover), across a pass boundary (the batch starts one sample before
@@ -527,7 +527,8 @@ TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
         const auto pattern = patternFor(s, plan, 16);
         ASSERT_NE(render::prefetchDims(plan, pattern), 0u) << name << ": an OA pattern is prefetched";
         ASSERT_EQ(render::prefetchDims(plan, pattern) % 4, 0u) << name << ": whole texels per sample";
-        render::GpuTracer inlineFetch(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, false});
+        using Prefetch = render::GpuTracerOptions::Prefetch;
+        render::GpuTracer inlineFetch(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, Prefetch::Never});
         render::SampleBatch batch;
         batch.width = s.width;
         batch.height = s.height;
@@ -538,7 +539,8 @@ TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
         const auto expected = inlineFetch.accumulation();
         // Uncapped, a batch is one strip (the other RenderGpu tests render that way).
         const std::uint64_t cap = std::uint64_t(2) * s.width * batch.count;
-        render::GpuTracer prefetched(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, true, cap});
+        render::GpuTracer prefetched(context(), data, plan, pattern,
+                                     {render::KernelStage::PathTrace, true, Prefetch::Always, cap});
         prefetched.trace(batch);
         const auto a = prefetched.accumulation();
         ASSERT_EQ(a.words.size(), expected.words.size()) << name;

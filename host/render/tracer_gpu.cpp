@@ -62,7 +62,10 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
 {
     const SceneFeatures features = sceneFeatures(data);
     pt::PtSpecialization s = specialization(plan, pattern, options.stage, options.specialiseSceneFeatures ? &features : nullptr);
-    s.PT_PREFETCH_DIMS = options.prefetchSamples ? prefetchDims(plan, pattern) : 0;
+    const std::uint32_t dims = prefetchDims(plan, pattern);
+    const bool prefetch = options.prefetch == GpuTracerOptions::Prefetch::Always ||
+                          (options.prefetch == GpuTracerOptions::Prefetch::WherePays && dims <= kPrefetchPaysUpToDims);
+    s.PT_PREFETCH_DIMS = prefetch ? dims : 0;
     prefetchDims_ = s.PT_PREFETCH_DIMS;
 #define PT_SPEC_ENTRY(NAME, ID, TYPE, DEFAULT, HOST) {ID, std::uint32_t(s.NAME)},
     const vk::ComputePipeline::SpecConstants spec = {PT_SPEC_CONSTANTS(PT_SPEC_ENTRY)};
