@@ -142,7 +142,7 @@ def run_oas_bench(binaries, pixels):
         cmd = [os.path.join(binaries, "oas-bench"), "--pixels", str(pixels), "--dims", str(DIMS),
                "--repeats", "1", "--only", only]
         out = run_tool(cmd)
-        m = re.search(r"CPU threads: \d+; GPU: (.+)$", out, re.M)
+        m = re.search(r"CPU threads: \d+[^;]*; GPU: (.+)$", out, re.M)  # "2 (OA loops: AVX2); GPU: ..."
         device = m.group(1) if m else device
         for label, cols in parse_table(out, "sampler", OAS_BENCH_COLUMNS).items():
             for prefix, _, _ in GEN_PAIRS:
