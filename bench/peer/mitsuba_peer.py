@@ -158,7 +158,8 @@ def our_kernel_stores(repo):
     """Whether our generation kernel writes every sample-dim out (it is what oas-bench times)."""
     try:
         with open(os.path.join(repo, "shaders", "oas_generate.comp")) as f:
-            return re.search(r"values\[[^\]]+\]\s*=", f.read()) is not None
+            # A storage-buffer element or a storage texel (imageStore) per value.
+            return re.search(r"values\[[^\]]+\]\s*=|imageStore\s*\(", f.read()) is not None
     except OSError:
         return None
 
