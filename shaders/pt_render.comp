@@ -85,7 +85,7 @@ OasPattern pt_pattern() { return params.pattern; }
 // (oas_generate.comp) wrote them in the dispatch before, [pixel of the tile][sample of the
 // batch][dimension], PT_PREFETCH_DIMS (a multiple of 4) dimensions per sample. Made there, a
 // pixel's block and column state (seeds, permutation keys) is shared by the batch's samples,
-// where oas_draw here makes it again for every sample; on lavapipe that was half of a 7D frame.
+// where oas_draw here makes it again for every sample; on lavapipe that was ~40% of a 7D frame.
 layout(binding = PT_BINDING_SAMPLES) uniform usamplerBuffer sampleTexels;
 
 /// pt_group_dims's values: from the prefetched samples, or oas_draw. The same bits either way

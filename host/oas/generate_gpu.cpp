@@ -141,7 +141,7 @@ vk::Buffer& GpuGenerator::generateOnDevice(const Pattern& pattern, const SampleR
     return *buffer_;
 }
 
-std::uint64_t GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, float* out)
+void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, float* out)
 {
     const Layout layout = layoutFor(pattern, r);
     const std::uint64_t pixels = std::uint64_t(r.width) * r.height;
@@ -174,8 +174,7 @@ std::uint64_t GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequ
         const std::uint64_t pixel = run / layout.runs;
         return pixel * r.spp + (run - pixel * layout.runs) * layout.samplesPerRun;
     };
-    std::uint64_t dispatches = 0;
-    for (std::uint64_t first = 0; first < totalRuns; first += runsPerChunk, ++dispatches) {
+    for (std::uint64_t first = 0; first < totalRuns; first += runsPerChunk) {
         const std::uint64_t runs = std::min(runsPerChunk, totalRuns - first);
         const std::uint64_t firstPoint = pointOfRun(first);
         const std::uint64_t endPoint = first + runs == totalRuns ? totalPoints : pointOfRun(first + runs);
@@ -202,7 +201,6 @@ std::uint64_t GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequ
         if (out)
             std::memcpy(out + firstPoint * r.dims, buffer_->data(), std::size_t(endPoint - firstPoint) * r.dims * sizeof(float));
     }
-    return dispatches;
 }
 
 void GpuGenerator::generate(const Pattern& pattern, const SampleRequest& request, float* out)

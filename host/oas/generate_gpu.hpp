@@ -42,9 +42,8 @@ public:
     double pipelineBuildSeconds() const { return pipelineBuildSeconds_; }
 
 private:
-    /// Runs the kernel over the request; copies the results to `out` unless it is null. Returns the
-    /// number of dispatches.
-    std::uint64_t dispatchAll(const Pattern& pattern, const SampleRequest& request, float* out);
+    /// Runs the kernel over the request; copies the results to `out` unless it is null.
+    void dispatchAll(const Pattern& pattern, const SampleRequest& request, float* out);
     /// Work items (runs of samples) per dispatch for `request`.
     std::uint64_t runsPerDispatch(const Pattern& pattern, const SampleRequest& request) const;
     vk::ComputePipeline& pipelineFor(const Pattern& pattern);
