@@ -121,7 +121,7 @@ std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern);
 /// The generation kernel makes every dimension of every sample, and a deep plan's paths mostly
 /// end (escape, roulette) long before its last vertex, where oas_draw in the tracer makes only
 /// what a path reaches. Measured on lavapipe (96 px, 3 rounds, docs/BENCHMARKS.md): prefetching
-/// made cornell7d (8 dims) and blue_spheres9d (12) faster, interior_deep (44) 0.95x as fast.
+/// made cornell7d (8 dims) and blue_spheres9d (12) faster, interior_deep (44) 0.95-0.98x as fast.
 constexpr std::uint32_t kPrefetchPaysUpToDims = 16;
 
 /// What the GPU kernel does per sample (pt_render.comp's PT_STAGE): the path tracer, or for
