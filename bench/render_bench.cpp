@@ -191,6 +191,38 @@ void profile(oas::vk::Context& context, const oas::scene::Scene& scene, std::uin
     std::fflush(stdout);
 }
 
+/// Every sampler the renderer offers against the independent sampler, in the same render: per
+/// round and sampler, a random render and the sampler's render back to back, so that each ratio
+/// compares neighbours in time. The figure to read is the median ratio; Mpaths/s are medians too.
+/// spp: 121 (11^2, Bose's), but 128 for the base-2 nets (zerotwo and the Sobol samplers), whose
+/// stratification holds at powers of two.
+template <class Measure>
+void samplerTable(const char* device, const oas::scene::Scene& scene, int repeats, Measure&& measureOne)
+{
+    std::vector<std::string> samplers = {"oa"};
+    for (const auto& name : oas::samplerNames())
+        if (name != "random" && !oas::isOrthogonalArray(name)) samplers.push_back(name);
+    auto sppOf = [](const std::string& sampler) {
+        return sampler == "zerotwo" || sampler.rfind("sobol", 0) == 0 ? 128u : 121u;
+    };
+    struct Figures {
+        std::vector<double> mpaths, random, ratio;
+    };
+    std::vector<Figures> figures(samplers.size());
+    for (int r = 0; r < repeats; ++r)
+        for (std::size_t k = 0; k < samplers.size(); ++k) {
+            const std::uint32_t spp = sppOf(samplers[k]);
+            const Result base = measureOne("random", spp), one = measureOne(samplers[k], spp);
+            figures[k].random.push_back(base.mpaths);
+            figures[k].mpaths.push_back(one.mpaths);
+            figures[k].ratio.push_back(one.mpaths / base.mpaths);
+        }
+    for (std::size_t k = 0; k < samplers.size(); ++k)
+        std::printf("%-18s %-4s %-12s %6u %12.3f %12.3f %10.3f\n", scene.name.c_str(), device, samplers[k].c_str(),
+                    sppOf(samplers[k]), median(figures[k].mpaths), median(figures[k].random), median(figures[k].ratio));
+    std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv)
@@ -199,7 +231,7 @@ int main(int argc, char** argv)
     std::string scenesDir = "scenes", only;
     std::uint32_t size = 128;
     int repeats = 1;
-    bool cpu = false, noGpu = false, noEffects = false, profileFrames = false;
+    bool cpu = false, noGpu = false, noEffects = false, profileFrames = false, everySampler = false;
     app.add_option("--scenes", scenesDir, "scene directory");
     app.add_option("--size", size, "render width (height keeps the aspect)")->check(CLI::Range(8u, 4096u));
     app.add_option("--repeats", repeats, "OA/independent alternations per figure (medians)")->check(CLI::Range(1, 50));
@@ -210,6 +242,9 @@ int main(int argc, char** argv)
     app.add_flag("--profile", profileFrames,
                  "GPU only: each scene's frame time by elimination (no tracing, fetches only, first hits only, "
                  "samples per dispatch) instead of the tables");
+    app.add_flag("--samplers", everySampler,
+                 "every sampler's Mpaths/s against random's, each next to a random render (cornell7d, blue_spheres9d; "
+                 "GPU, and the CPU reference with --cpu) instead of the tables");
     return oas::runCli("oas-render-bench", app, argc, argv, [&] {
         std::unique_ptr<oas::vk::Context> context;
         if (!noGpu) {
@@ -231,6 +266,22 @@ int main(int argc, char** argv)
             for (const auto& [name, spp] : kBenchScenes)
                 if (only.empty() || std::string(name).find(only) != std::string::npos)
                     profile(*context, load(name), spp, repeats);
+            return 0;
+        }
+        if (everySampler) {
+            std::printf("\n%-18s %-4s %-12s %6s %12s %12s %10s\n", "scene", "dev", "sampler", "spp", "Mpaths/s", "rnd Mpaths/s",
+                        "/random");
+            for (const char* name : {"cornell7d.json", "blue_spheres9d.json"}) {
+                if (!only.empty() && std::string(name).find(only) == std::string::npos) continue;
+                const auto scene = load(name);
+                if (context)
+                    samplerTable("gpu", scene, repeats, [&](const std::string& sampler, std::uint32_t spp) {
+                        return measure(*context, scene, sampler, spp);
+                    });
+                if (cpu)
+                    samplerTable("cpu", scene, repeats,
+                                 [&](const std::string& sampler, std::uint32_t spp) { return measureCpu(scene, sampler, spp); });
+            }
             return 0;
         }
         std::printf("\n%-18s %-4s %5s %6s %12s %12s %10s %10s %10s\n", "scene", "dev", "dims", "spp", "OA Mpaths/s",

@@ -12,7 +12,7 @@ install(TARGETS oas_glsl oas_pattern_c oas_pattern EXPORT oasTargets
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/host/oas/oas_pattern.h
               ${PROJECT_SOURCE_DIR}/host/oas/pattern.hpp ${PROJECT_SOURCE_DIR}/host/oas/glsl_compat.hpp
-              ${PROJECT_SOURCE_DIR}/host/oas/oa_columns.hpp
+              ${PROJECT_SOURCE_DIR}/host/oas/oa_columns.hpp ${PROJECT_SOURCE_DIR}/host/oas/baseline_columns.hpp
               ${OAS_GLSL_SOURCES} ${OAS_SINGLE_GLSL}
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/oas)
 install(EXPORT oasTargets NAMESPACE oas:: DESTINATION ${OAS_CMAKE_INSTALL_DIR})

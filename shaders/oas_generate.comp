@@ -30,9 +30,10 @@ layout(constant_id = 4) const uint oasSpecSmallN = 0u;
 #define OAS_STATIC_FIELD_DEGREE oasSpecFieldDegree
 #define OAS_STATIC_SMALL_N oasSpecSmallN
 #endif
-// The Sobol baseline's direction numbers (oas::sobolDirections(), 1024 dims x 32 bits).
-layout(std430, binding = 1) readonly buffer SobolDirections { uint sobolDirections[]; };
-#define OAS_SOBOL_DIRECTION(dim, bit) sobolDirections[(dim) * 32u + (bit)]
+// The Sobol baselines' direction numbers (oas::sobolDirections(), 1024 dims x 32 bits), as texels
+// of four (lavapipe fetches texels for all lanes at once; see pt_render.comp).
+layout(binding = 1) uniform usamplerBuffer sobolTexels;
+#define OAS_SOBOL_DIRECTION(dim, bit) texelFetch(sobolTexels, int((dim) * 8u + (bit) / 4u))[(bit) & 3u]
 #include "oas/oas.glsl"
 
 layout(local_size_x = 64) in;

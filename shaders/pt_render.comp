@@ -17,9 +17,12 @@ PT_SAMPLER_CONSTANTS(PT_DECLARE_SPEC_CONSTANT)
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
 #define OAS_STATIC_FIELD_DEGREE oasSpecFieldDegree
 #define OAS_STATIC_SMALL_N oasSpecSmallN
-// The Sobol baseline's direction numbers (oas::sobolDirections(), 1024 dims x 32 bits).
-layout(std430, binding = PT_BINDING_SOBOL_DIRECTIONS) readonly buffer SobolDirections { uint sobolDirections[]; };
-#define OAS_SOBOL_DIRECTION(dim, bit) sobolDirections[(dim) * 32u + (bit)]
+// The Sobol baselines' direction numbers (oas::sobolDirections(), 1024 dims x 32 bits), as texels
+// of four: lavapipe fetches a texel for all lanes at once, where it loaded a storage-buffer
+// element one lane at a time. `bit` is a constant in the library's unrolled loop, so the
+// component is too, and the four fetches of one texel are one.
+layout(binding = PT_BINDING_SOBOL_DIRECTIONS) uniform usamplerBuffer sobolTexels;
+#define OAS_SOBOL_DIRECTION(dim, bit) texelFetch(sobolTexels, int((dim) * 8u + (bit) / 4u))[(bit) & 3u]
 #include "oas/oas.glsl"
 
 PT_PLAN_CONSTANTS(PT_DECLARE_SPEC_CONSTANT)

@@ -501,7 +501,7 @@ TEST_F(CliTest, ListNamesEverySamplerAndValidCounts)
     ASSERT_EQ(r.status, 0) << describe(r);
     const std::vector<std::string> names = {"bose",    "bush",   "bose-bush",  "addelman-kempthorne",
                                             "cmjnd",   "random", "jittered2d", "cmj2d",
-                                            "zerotwo", "halton", "sobol"};
+                                            "zerotwo", "halton", "sobol", "sobol-owen", "sobol-burley"};
     const std::vector<std::string> lines = splitLines(r.out);
     for (const auto& name : names) {
         bool found = false;

@@ -26,7 +26,8 @@ std::vector<oas::Pattern> everyPattern()
         for (const char* offset : {"centered", "j", "mj", "cmj"}) patterns.push_back(oas::test::patternOf(c, offset));
     const std::vector<std::pair<const char*, std::uint32_t>> baselines = {
         {"random", 4096},      {"jittered2d", 1000}, {"cmj2d", 256},       {"cmj2d", 16777213}, {"zerotwo", 64},
-        {"zerotwo", 16777216}, {"halton", 100},      {"halton", 16777216}, {"sobol", 121},      {"sobol", 16777216}};
+        {"zerotwo", 16777216}, {"halton", 100},      {"halton", 16777216}, {"sobol", 121},      {"sobol", 16777216},
+        {"sobol-owen", 121},   {"sobol-burley", 121}, {"sobol-burley", 16777216}};
     for (const auto& [sampler, spp] : baselines) {
         oas::PatternRequest r;
         r.sampler = sampler;

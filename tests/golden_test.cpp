@@ -222,7 +222,7 @@ TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
     const std::map<std::string, std::uint32_t> codes = {
         {"bose", 1},     {"bush", 2},    {"bose-bush", 3},   {"addelman-kempthorne", 4},
         {"cmjnd", 5},    {"random", 16}, {"jittered2d", 17}, {"cmj2d", 18},
-        {"zerotwo", 19}, {"halton", 20}, {"sobol", 21}};
+        {"zerotwo", 19}, {"halton", 20}, {"sobol-owen", 21}, {"sobol", 22}, {"sobol-burley", 23}};
     const std::map<std::string, std::uint32_t> offsets = {{"centered", 0}, {"j", 1}, {"mj", 2}, {"cmj", 3}};
     for (const auto& c : golden()["cases"]) {
         SCOPED_TRACE(c["describe"].get<std::string>());
@@ -293,7 +293,7 @@ TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
             }
         } else {
             EXPECT_EQ(s, N);
-            EXPECT_EQ(w.blockDims, code == 20 ? 32u : code == 21 ? 1024u : code == 16 ? 1u : 2u);
+            EXPECT_EQ(w.blockDims, code == 20 ? 32u : code == 21 || code == 22 ? 1024u : code == 23 ? 4u : code == 16 ? 1u : 2u);
             EXPECT_EQ(w.strength, code == 16 ? 0u : code >= 20 ? 1u : 2u);
             // The grid nx x ny = N: nx the largest divisor of N with nx * nx <= N.
             std::uint32_t nx = 1;

@@ -103,7 +103,11 @@ TEST_F(GpuCpu, EveryOrthogonalArrayAndOffset)
 TEST_F(GpuCpu, EveryBaseline)
 {
     oas::GpuGenerator& gpu = generator();
-    for (const char* sampler : {"random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"}) {
+    std::vector<std::string> baselines;  // every baseline the library names, so a new one is covered
+    for (const auto& name : oas::samplerNames())
+        if (!oas::isOrthogonalArray(name)) baselines.push_back(name);
+    ASSERT_EQ(baselines.size(), 8u);
+    for (const std::string& sampler : baselines) {
         for (std::uint32_t spp : {1u, 7u, 64u, 100u, 1024u}) {
             oas::PatternRequest req;
             req.sampler = sampler;

@@ -90,6 +90,7 @@ const std::vector<Case>& baselineCases()
         {"random", 4096, 0, ""}, {"jittered2d", 1000, 0, ""},  {"cmj2d", 16777213, 0, "prime N"},
         {"cmj2d", 256, 0, ""},   {"zerotwo", 16777216, 0, ""}, {"halton", 16777216, 0, "24 base-2 digits"},
         {"halton", 100, 0, ""},  {"sobol", 16777216, 0, ""},   {"sobol", 121, 0, ""},
+        {"sobol-owen", 16777216, 0, ""}, {"sobol-burley", 16777216, 0, ""}, {"sobol-burley", 121, 0, ""},
     };
     return cases;
 }

@@ -15,7 +15,7 @@ namespace {
 TEST(MulHiHook, PortableMulHiGivesTheSameSamples)
 {
     std::vector<oas::test::SamplerCase> cases = oas::test::hardCases();
-    for (const char* name : {"bose", "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"})
+    for (const char* name : {"bose", "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol", "sobol-owen", "sobol-burley"})
         cases.push_back({name, 121, 0});
     std::size_t compared = 0;
     for (const auto& c : cases) {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "oas/glsl_compat.hpp"
+#include "oas/baseline_columns.hpp"
 #include "oas/oa_columns.hpp"
 #include "test_cases.hpp"
 
@@ -150,6 +151,54 @@ TEST(OaColumns, RefusesRunsThatLeaveTheirPassAndBaselinesNamingTheLimit)
     EXPECT_THROW(columns.values(1u, 0u, 0u, 122u, rows.data(), out.data()), oas::InvalidArgument);
     r.sampler = "sobol";
     EXPECT_THROW(oas::OaColumns{oas::makePattern(r)}, oas::InvalidArgument);
+}
+
+TEST(BaselineColumns, EveryBaselineEqualsOasSampleBitForBit)
+{
+    // Every baseline the library names, N a square, a prime, a power of two and 2^24; runs that
+    // start anywhere in a pass (pass 0, a later pass, the last whole pass before the index wraps);
+    // dimensions across the Halton (32), Sobol-Burley (4) and Sobol (1024) blocks.
+    std::size_t compared = 0;
+    for (const auto& name : oas::samplerNames()) {
+        if (oas::isOrthogonalArray(name)) continue;
+        for (std::uint32_t spp : {121u, 127u, 128u, 16777216u}) {
+            oas::PatternRequest r;
+            r.sampler = name;
+            r.spp = spp;
+            const oas::Pattern p = oas::makePattern(r);
+            const oas::BaselineColumns columns(p);
+            std::vector<float> out(200);
+            const std::uint32_t lastPass = (0xffffffffu / spp - 1) * spp;  // the last whole pass
+            for (std::uint32_t firstIndex : {0u, 5u, 3 * spp + 1, lastPass + 2})
+                for (std::uint32_t dim : {0u, 1u, 2u, 3u, 4u, 7u, 31u, 32u, 33u, 1023u, 1024u, 1025u, 5000u})
+                    for (std::uint32_t seed : {0u, 0x9e3779b9u}) {
+                        const std::uint32_t count = std::min({columns.samplesLeftInPass(firstIndex), 200u, spp});
+                        columns.values(seed, dim, firstIndex, count, out.data());
+                        for (std::uint32_t k = 0; k < count; ++k, ++compared)
+                            ASSERT_EQ(out[k], oas::sample(p, seed, firstIndex + k, dim))
+                                << oas::describe(p) << ", sample " << firstIndex + k << ", dim " << dim << ", seed " << seed;
+                    }
+        }
+    }
+    EXPECT_GT(compared, 100000u);
+}
+
+TEST(BaselineColumns, RefusesRunsThatLeaveTheirPassAndOrthogonalArrays)
+{
+    oas::PatternRequest r;
+    r.sampler = "random";
+    r.spp = 121;
+    const oas::BaselineColumns columns(oas::makePattern(r));
+    std::vector<float> out(200);
+    EXPECT_EQ(columns.samplesLeftInPass(120u), 1u);
+    try {
+        columns.values(1u, 0u, 100u, 22u, out.data());
+        FAIL() << "a run of 22 samples from index 100 with N = 121 was accepted";
+    } catch (const oas::InvalidArgument& e) {
+        EXPECT_NE(std::string(e.what()).find("at most 21"), std::string::npos) << e.what();
+    }
+    r.sampler = "bose";
+    EXPECT_THROW(oas::BaselineColumns{oas::makePattern(r)}, oas::InvalidArgument);
 }
 
 }  // namespace

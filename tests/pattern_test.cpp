@@ -165,16 +165,20 @@ static_assert(oas::glsl::OAS_BOSE == OAS_BOSE && oas::glsl::OAS_BUSH == OAS_BUSH
               oas::glsl::OAS_ADDELMAN_KEMPTHORNE == OAS_ADDELMAN_KEMPTHORNE && oas::glsl::OAS_CMJND == OAS_CMJND &&
               oas::glsl::OAS_RANDOM == OAS_RANDOM && oas::glsl::OAS_JITTERED_2D == OAS_JITTERED_2D &&
               oas::glsl::OAS_CMJ_2D == OAS_CMJ_2D && oas::glsl::OAS_ZERO_TWO == OAS_ZERO_TWO &&
-              oas::glsl::OAS_HALTON == OAS_HALTON && oas::glsl::OAS_SOBOL == OAS_SOBOL);
+              oas::glsl::OAS_HALTON == OAS_HALTON && oas::glsl::OAS_SOBOL == OAS_SOBOL &&
+                  oas::glsl::OAS_SOBOL_OWEN == OAS_SOBOL_OWEN && oas::glsl::OAS_SOBOL_BURLEY == OAS_SOBOL_BURLEY);
 static_assert(oas::glsl::OAS_OFFSET_CENTERED == OAS_OFFSET_CENTERED && oas::glsl::OAS_OFFSET_J == OAS_OFFSET_J &&
               oas::glsl::OAS_OFFSET_MJ == OAS_OFFSET_MJ && oas::glsl::OAS_OFFSET_CMJ == OAS_OFFSET_CMJ);
 static_assert(oas::glsl::OAS_HALTON_BLOCK == OAS_HALTON_BLOCK_DIMS, "shaders/oas/oas_baselines.glsl's Halton block");
 static_assert(oas::glsl::OAS_SOBOL_BLOCK == OAS_SOBOL_BLOCK_DIMS, "shaders/oas/oas_baselines.glsl's Sobol block");
+static_assert(oas::glsl::OAS_SOBOL_BURLEY_GROUP == OAS_SOBOL_BURLEY_GROUP_DIMS, "oas_baselines.glsl's Sobol-Burley group");
 
 TEST(PatternConstants, BaselinesUseTheHeadersBlockSizes)
 {
     EXPECT_EQ(oas::makePattern({.sampler = "halton", .spp = 7}).blockDims, std::uint32_t(OAS_HALTON_BLOCK_DIMS));
     EXPECT_EQ(oas::makePattern({.sampler = "sobol", .spp = 7}).blockDims, std::uint32_t(OAS_SOBOL_BLOCK_DIMS));
+    EXPECT_EQ(oas::makePattern({.sampler = "sobol-owen", .spp = 7}).blockDims, std::uint32_t(OAS_SOBOL_BLOCK_DIMS));
+    EXPECT_EQ(oas::makePattern({.sampler = "sobol-burley", .spp = 7}).blockDims, std::uint32_t(OAS_SOBOL_BURLEY_GROUP_DIMS));
     EXPECT_EQ(oas::sobolDirections().size(), std::size_t(OAS_SOBOL_BLOCK_DIMS) * 32);
 }
 
@@ -186,7 +190,8 @@ TEST(PatternNames, CppListsTheCBuildersNamesInItsOrder)
     for (std::size_t i = 0; oas_construction_at(i) != 0; ++i) fromC.push_back(oas_construction_name(oas_construction_at(i)));
     EXPECT_EQ(oas::samplerNames(), fromC);
     EXPECT_EQ(fromC, (std::vector<std::string>{"bose", "bush", "bose-bush", "addelman-kempthorne", "cmjnd", "random",
-                                               "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"}));
+                                               "jittered2d", "cmj2d", "zerotwo", "halton", "sobol", "sobol-owen",
+                                               "sobol-burley"}));
     for (std::size_t i = 0; oas_construction_at(i) != 0; ++i) {
         const std::uint32_t code = oas_construction_at(i);
         std::uint32_t back = 0;
@@ -209,7 +214,8 @@ TEST(PatternNames, DescriptionsQuoteTheLibrarysNumbers)
               "Addelman-Kempthorne OA(2q^2, 2q+1, q, 2), q odd prime power: N = 18, 50, 98, 162 ...");
     EXPECT_EQ(oas::samplerDescription("halton"), "Halton with random digit permutations, blocks of 32 dims (baseline)");
     EXPECT_EQ(oas::samplerDescription("sobol"),
-              "Owen-scrambled Sobol, blocks of 1024 dims (baseline; Joe-Kuo direction numbers)");
+              "Owen-scrambled Sobol, hash-based scramble (after Burley 2020), blocks of 1024 dims (baseline; Joe-Kuo direction "
+              "numbers)");
 }
 
 // ---- valid counts -----------------------------------------------------------------------------

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <random>
 #include <set>
 #include <vector>
@@ -189,6 +190,102 @@ TEST(Sobol, EveryDimensionIsAZeroOneSequenceAndScramblingKeepsIt)
             cells.insert(std::uint64_t(oas::stratumOf(pts[i * dims], 1u << bx)) << 32 |
                          oas::stratumOf(pts[i * dims + 1], 1u << (8 - bx)));
         EXPECT_EQ(cells.size(), 256u) << bx;
+    }
+}
+
+/// Elementary intervals of 2^bx x 2^(m - bx) over dims (a, b) of the first 2^m points of `pts`
+/// (rows of `dims` values), for every bx: the number of distinct cells each split occupies.
+std::vector<std::size_t> occupiedCells(const std::vector<std::uint32_t>& xs, const std::vector<std::uint32_t>& ys, std::uint32_t m)
+{
+    std::vector<std::size_t> counts;
+    for (std::uint32_t bx = 0; bx <= m; ++bx) {
+        std::set<std::uint64_t> cells;
+        for (std::uint32_t i = 0; i < (1u << m); ++i)
+            cells.insert(std::uint64_t(bx == 0 ? 0 : xs[i] >> (32 - bx)) << 32 | (m - bx == 0 ? 0 : ys[i] >> (32 - (m - bx))));
+        counts.push_back(cells.size());
+    }
+    return counts;
+}
+
+std::uint32_t fixedOf(float x) { return std::uint32_t(double(x) * 16777216.0) << 8; }
+
+TEST(Sobol, HashScrambleIsANestedUniformScrambleStructure)
+{
+    // Owen's structure: bit b flips by a function of the bits above it only. So two inputs whose
+    // first difference is at bit b keep the same bits above b and still differ at b, for every
+    // seed, and the map is a bijection (checked on all 2^16 top-bit patterns).
+    std::mt19937 rng(7);
+    for (std::uint32_t seed : {0u, 1u, 0x9e3779b9u, 0xffffffffu, std::uint32_t(rng()), std::uint32_t(rng())}) {
+        for (int trial = 0; trial < 20000; ++trial) {
+            const std::uint32_t x = rng(), y = trial % 2 ? x ^ (1u << (trial % 32)) : std::uint32_t(rng());
+            const std::uint32_t fx = oas::glsl::oas_owen_scramble_hash(x, seed), fy = oas::glsl::oas_owen_scramble_hash(y, seed);
+            if (x == y) continue;
+            ASSERT_EQ(std::countl_zero(x ^ y), std::countl_zero(fx ^ fy)) << std::hex << x << " " << y << " seed " << seed;
+        }
+        std::vector<bool> seen(1u << 16, false);
+        for (std::uint32_t top = 0; top < (1u << 16); ++top) {
+            const std::uint32_t image = oas::glsl::oas_owen_scramble_hash(top << 16, seed) >> 16;
+            ASSERT_FALSE(seen[image]) << "seed " << seed;
+            seen[image] = true;
+        }
+    }
+}
+
+TEST(Sobol, BurleysFourDimensionsAreTheTablesFirstFour)
+{
+    // oas_sobol4_reversed folds the four dimensions' direction numbers from their recurrences;
+    // they must be Joe and Kuo's (the table scipy checks, tests/sobol_scipy_test.py).
+    std::mt19937 rng(11);
+    for (std::uint32_t n = 0; n < 70000; ++n) {
+        const std::uint32_t i = n < 65536 ? n : rng() >> 8;  // all 16-bit indices, then any below 2^24
+        for (std::uint32_t k = 0; k < 4; ++k)
+            ASSERT_EQ(oas::glsl::oas_sobol4_reversed(oas::glsl::oas_reverse_bits(i), k),
+                      oas::glsl::oas_reverse_bits(oas::glsl::oas_sobol(i, k)))
+                << "index " << i << ", dim " << k;
+    }
+}
+
+TEST(Sobol, EveryScrambleKeepsTheNetQualityOfEveryPairAndPowerOfTwoPrefixes)
+{
+    // A scramble of the kind Owen's is maps elementary intervals onto elementary intervals, so
+    // in every pair of dimensions the scrambled points occupy exactly as many cells of every
+    // 2^bx x 2^(m - bx) grid as the unscrambled Sobol points (the pair's t-value is kept: (0,m,2)
+    // where Joe and Kuo give it, as in dims 0 and 1), for every aligned power-of-two prefix 2^m
+    // of a pass. Sobol-Burley pads 4D groups, each group's pairs with the table's first four
+    // dimensions, its index shuffle keeping aligned blocks; its second group is checked too.
+    const std::uint32_t N = 1024, M = 10;
+    for (const char* sampler : {"sobol", "sobol-owen", "sobol-burley"}) {
+        const bool burley = std::string(sampler) == "sobol-burley";
+        oas::PatternRequest r;
+        r.sampler = sampler;
+        r.spp = N;
+        const oas::Pattern p = oas::makePattern(r);
+        const std::uint32_t dims = 8;
+        for (std::uint32_t pixel : {0u, 5u}) {
+            const auto pts = points(p, dims, pixel, 3, 77, pixel == 0 ? 0 : 3 * N);  // pixel 5: the fourth pass
+            for (std::uint32_t a = 0; a < dims; ++a)
+                for (std::uint32_t b = a + 1; b < dims; ++b) {
+                    if (burley && a / 4 != b / 4) continue;  // different groups: independent shuffles
+                    const std::uint32_t ra = burley ? a % 4 : a, rb = burley ? b % 4 : b;
+                    std::vector<std::uint32_t> xs(N), ys(N), sx(N), sy(N);
+                    for (std::uint32_t i = 0; i < N; ++i) {
+                        xs[i] = fixedOf(pts[i * dims + a]);
+                        ys[i] = fixedOf(pts[i * dims + b]);
+                        sx[i] = oas::glsl::oas_sobol(i, ra);
+                        sy[i] = oas::glsl::oas_sobol(i, rb);
+                    }
+                    for (std::uint32_t m = 1; m <= M; ++m) {
+                        // Sobol-Burley's prefix 2^m is its shuffle of some aligned block of 2^m
+                        // indices: the same point set up to a digital shift, so the same counts.
+                        const auto want = occupiedCells(sx, sy, m);
+                        ASSERT_EQ(occupiedCells(xs, ys, m), want)
+                            << sampler << " dims (" << a << ", " << b << "), first 2^" << m << " of pixel " << pixel;
+                        if ((a == 0 && b == 1) || (burley && a == 4 && b == 5)) {
+                            ASSERT_EQ(want, std::vector<std::size_t>(m + 1, std::size_t(1) << m)) << "(0,m,2)-net";
+                        }
+                    }
+                }
+        }
     }
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "oas/glsl_compat.hpp"
+#include "oas/baseline_columns.hpp"
 #include "oas/oa_columns.hpp"
 #include "oas/pattern.hpp"
 
@@ -22,17 +23,23 @@ float sample(const Pattern& pattern, std::uint32_t seed, std::uint32_t index, st
 }
 
 namespace {
-// The other baselines (random, Halton, Sobol): oas_draw per sample, OAS_DRAW_MAX dimensions a
-// call. Flattened, so that each value is straight-line code rather than a chain of calls.
-[[gnu::flatten]] void generateBaseline(const glsl::OasPattern& pat, std::uint32_t seed, const SampleRequest& r, float* pixelOut)
+// The other baselines (random, Halton, the Sobol samplers): BaselineColumns, runs of up to
+// kRunSamples samples of one pass, one dimension per call (the pass's seeds made once a run).
+void generateBaseline(const BaselineColumns& columns, std::uint32_t seed, const SampleRequest& r, float* pixelOut,
+                      std::vector<float>& values)
 {
-    float* dst = pixelOut;
-    for (std::uint32_t i = r.firstSample; i != r.firstSample + r.spp; ++i)
-        for (std::uint32_t d0 = 0; d0 < r.dims; d0 += glsl::OAS_DRAW_MAX) {
-            const std::uint32_t n = std::min(glsl::OAS_DRAW_MAX, r.dims - d0);
-            const glsl::OasDraw v = glsl::oas_draw(pat, seed, i, d0, n);
-            dst = std::copy(v.u, v.u + n, dst);
+    constexpr std::uint32_t kRunSamples = 1024;
+    values.resize(kRunSamples);
+    for (std::uint32_t done = 0; done < r.spp;) {
+        const std::uint32_t first = r.firstSample + done;
+        const std::uint32_t count = std::min({r.spp - done, columns.samplesLeftInPass(first), kRunSamples});
+        for (std::uint32_t dim = 0; dim < r.dims; ++dim) {
+            columns.values(seed, dim, first, count, values.data());
+            float* dst = pixelOut + std::size_t(done) * r.dims + dim;
+            for (std::uint32_t k = 0; k < count; ++k) dst[std::size_t(k) * r.dims] = values[k];
         }
+        done += count;
+    }
 }
 
 // The padded 2D baselines' fast path: each pair's keys once per pass (oas_pair_column), and one
@@ -97,6 +104,7 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     const bool oa = pat.construction < glsl::OAS_RANDOM;
     const std::optional<OaColumns> columns = oa ? std::optional<OaColumns>(pattern) : std::nullopt;
+    const std::optional<BaselineColumns> baselineColumns = oa ? std::nullopt : std::optional<BaselineColumns>(pattern);
     auto work = [&](std::uint64_t begin, std::uint64_t end) {
         std::vector<std::uint32_t> rows;
         std::vector<float> values;
@@ -109,8 +117,8 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
                 generatePadded2d(pat, seed, r, pixelOut);
                 continue;
             }
-            if (!oa) {  // other baselines: per sample, OAS_DRAW_MAX dims a call
-                generateBaseline(pat, seed, r, pixelOut);
+            if (!oa) {  // other baselines: runs of one pass, a dimension a call
+                generateBaseline(*baselineColumns, seed, r, pixelOut, values);
                 continue;
             }
             generateOa(*columns, seed, r, pixelOut, rows, values);

@@ -96,7 +96,7 @@ vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
         // Binding 0, the output, is a storage texel buffer of uint (oas_generate.comp says why).
         slot = std::make_unique<vk::ComputePipeline>(
             context_, spirv.code, spirv.bytes, 2, std::uint32_t(sizeof(GenerateParams)), spec,
-            std::vector<vk::BindingKind>{vk::BindingKind::UintStorageTexelBuffer, vk::BindingKind::StorageBuffer});
+            std::vector<vk::BindingKind>{vk::BindingKind::UintStorageTexelBuffer, vk::BindingKind::Uint4TexelBuffer});
         pipelineBuildSeconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     return *slot;

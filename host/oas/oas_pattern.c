@@ -166,6 +166,8 @@ static const struct {
     {"zerotwo", OAS_ZERO_TWO},
     {"halton", OAS_HALTON},
     {"sobol", OAS_SOBOL},
+    {"sobol-owen", OAS_SOBOL_OWEN},
+    {"sobol-burley", OAS_SOBOL_BURLEY},
 };
 #define OASP_NAME_COUNT (sizeof oasp_names / sizeof oasp_names[0])
 
@@ -348,11 +350,13 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
     default: { /* the baselines take any N */
         uint32_t nx = oasp_integer_root(spp, 2);
         pat->s = spp;
-        pat->blockDims = code == OAS_HALTON   ? OAS_HALTON_BLOCK_DIMS
-                         : code == OAS_SOBOL  ? OAS_SOBOL_BLOCK_DIMS
-                         : code == OAS_RANDOM ? 1
-                                              : 2;
-        pat->strength = code == OAS_RANDOM ? 0 : (code == OAS_HALTON || code == OAS_SOBOL ? 1 : 2);
+        const int sobol = code == OAS_SOBOL || code == OAS_SOBOL_OWEN;
+        pat->blockDims = code == OAS_HALTON         ? OAS_HALTON_BLOCK_DIMS
+                         : sobol                    ? OAS_SOBOL_BLOCK_DIMS
+                         : code == OAS_SOBOL_BURLEY ? OAS_SOBOL_BURLEY_GROUP_DIMS
+                         : code == OAS_RANDOM       ? 1
+                                                    : 2;
+        pat->strength = code == OAS_RANDOM ? 0 : (code == OAS_HALTON || sobol || code == OAS_SOBOL_BURLEY ? 1 : 2);
         /* The 2D grid nx * ny = N with nx the largest divisor <= sqrt(N): squares give n x n,
          * primes a 1 x N grid (then jittered2d is a 1D stratification of the second axis). */
         while (nx > 1 && spp % nx != 0) --nx;

@@ -26,7 +26,7 @@ extern "C" {
  *  uint32_t in the same order under the same names (tests/pattern_test.cpp reads both sources and
  *  compares the field lists). The C++ oas::Pattern derives from this struct rather than restating it. */
 typedef struct OasPattern {
-    uint32_t construction;                        /**< OAS_BOSE ... OAS_SOBOL */
+    uint32_t construction;                        /**< OAS_BOSE ... OAS_SOBOL_BURLEY */
     uint32_t offset;                              /**< OAS_OFFSET_* (0 for the baselines) */
     uint32_t N;                                   /**< points per pixel in one OA (one pass) */
     uint32_t s;                                   /**< levels per dimension */
@@ -49,7 +49,9 @@ enum {
     OAS_CMJ_2D = 18,
     OAS_ZERO_TWO = 19,
     OAS_HALTON = 20,
-    OAS_SOBOL = 21
+    OAS_SOBOL_OWEN = 21,
+    OAS_SOBOL = 22,
+    OAS_SOBOL_BURLEY = 23
 };
 enum { OAS_OFFSET_CENTERED = 0, OAS_OFFSET_J = 1, OAS_OFFSET_MJ = 2, OAS_OFFSET_CMJ = 3 };
 enum {
@@ -58,8 +60,9 @@ enum {
     OAS_MAX_FIELD_Q = 65535,   /**< products of two field elements fit 32 bits */
     OAS_MAX_STRENGTH = 24,
     OAS_HALTON_BLOCK_DIMS = 32, /**< the GLSL's OAS_HALTON_BLOCK (oas_baselines.glsl) */
-    OAS_SOBOL_BLOCK_DIMS = 1024 /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc);
+    OAS_SOBOL_BLOCK_DIMS = 1024, /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc);
                                         the GLSL's OAS_SOBOL_BLOCK */
+    OAS_SOBOL_BURLEY_GROUP_DIMS = 4 /**< Burley's padding: 4D Sobol groups (OAS_SOBOL_BURLEY_GROUP) */
 };
 /* GLSL cannot include this header, so shaders/oas restates the codes, offsets and block sizes;
  * tests/pattern_test.cpp compiles the GLSL as C++ and static_asserts each value against these. */
@@ -72,7 +75,7 @@ enum {
 };
 
 /**
- * Builds the pattern for `construction` (OAS_BOSE ... OAS_SOBOL) with exactly `spp` points per
+ * Builds the pattern for `construction` (OAS_BOSE ... OAS_SOBOL_BURLEY) with exactly `spp` points per
  * pixel. `strength` 0 means the default: 2, or for OAS_CMJND the number of dimensions of one full
  * factorial, which must then be given (CMJND has no default). `offset` is OAS_OFFSET_* and is
  * ignored (stored as 0) by the baselines. On failure *out is zeroed and, when why != NULL, a
@@ -85,7 +88,7 @@ int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uin
  *  each code once, then 0 past the last. Tools list samplers in this order. */
 uint32_t oas_construction_at(size_t index);
 /** Construction code for a sampler name ("bose", "bush", "bose-bush", "addelman-kempthorne",
- *  "cmjnd", "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol"); 0 on success. */
+ *  "cmjnd", "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol", "sobol-owen", "sobol-burley"); 0 on success. */
 int oas_construction_from_name(const char* name, uint32_t* construction);
 /** The sampler name of a construction code, or NULL. */
 const char* oas_construction_name(uint32_t construction);

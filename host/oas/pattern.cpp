@@ -165,8 +165,14 @@ std::string samplerDescription(const std::string& name)
     case OAS_HALTON:
         return "Halton with random digit permutations, blocks of " + std::to_string(OAS_HALTON_BLOCK_DIMS) + " dims (baseline)";
     case OAS_SOBOL:
-        return "Owen-scrambled Sobol, blocks of " + std::to_string(OAS_SOBOL_BLOCK_DIMS) +
+        return "Owen-scrambled Sobol, hash-based scramble (after Burley 2020), blocks of " + std::to_string(OAS_SOBOL_BLOCK_DIMS) +
                " dims (baseline; Joe-Kuo direction numbers)";
+    case OAS_SOBOL_OWEN:
+        return "Owen-scrambled Sobol, per-bit nested uniform scramble, blocks of " + std::to_string(OAS_SOBOL_BLOCK_DIMS) +
+               " dims (baseline; Joe-Kuo direction numbers)";
+    case OAS_SOBOL_BURLEY:
+        return "Sobol-Burley: 4D Owen-scrambled Sobol padded with hash-shuffled indices (Burley 2020; Cycles' default; "
+               "baseline)";
     }
     return name;  // a construction the C builder names but this list does not describe yet
 }

@@ -60,10 +60,12 @@ StratificationSummary summarize(const Pattern& p, const float* points, std::uint
     }
     const bool lhsPromised = !isOA || p.offset == glsl::OAS_OFFSET_MJ || p.offset == glsl::OAS_OFFSET_CMJ;
     // Halton is N-stratified only where N is a power of a dimension's base; promise nothing there.
-    // Sobol and (0,2) are N-stratified in 1D for powers of two only.
+    // The Sobol samplers and (0,2) are N-stratified in 1D for powers of two only.
     const bool powerOfTwo = (p.N & (p.N - 1)) == 0;
+    const bool base2Net = p.construction == glsl::OAS_SOBOL || p.construction == glsl::OAS_SOBOL_OWEN ||
+                          p.construction == glsl::OAS_SOBOL_BURLEY || p.construction == glsl::OAS_ZERO_TWO;
     if (p.construction != glsl::OAS_RANDOM && p.construction != glsl::OAS_JITTERED_2D && p.construction != glsl::OAS_HALTON &&
-        (powerOfTwo || (p.construction != glsl::OAS_SOBOL && p.construction != glsl::OAS_ZERO_TWO))) {
+        (powerOfTwo || !base2Net)) {
         std::uint32_t kept = 0, total = 0;
         const std::uint32_t K = lhsPromised ? p.N : p.s;
         for (std::uint32_t d = 0; d < dims; ++d, ++total) kept += isStratified(points, n, dims, {d}, K);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "oas/glsl_compat.hpp"
+#include "oas/baseline_columns.hpp"
 #include "oas/oa_columns.hpp"
 #include "render/tracer.hpp"
 
@@ -22,6 +23,7 @@ struct CpuContext {
     pt::PtSpecialization spec;  ///< the kernel's specialization constants for the plan (every path kept)
     glsl::OasPattern pattern;
     std::optional<OaColumns> columns;  ///< the pattern's bulk evaluation, where it is an OA
+    std::optional<BaselineColumns> baselineColumns;  ///< and where it is a baseline
     std::uint64_t generation;          ///< unique per context: keys the per-thread SampleRunMemo
 };
 thread_local const CpuContext* tContext = nullptr;
@@ -35,6 +37,7 @@ CpuContext makeContext(const SceneData& data, const DimensionPlan& plan, const P
             specialization(plan, pattern, KernelStage::PathTrace, nullptr),
             glsl::toGlsl(pattern),
             oa ? std::optional<OaColumns>(pattern) : std::nullopt,
+            oa ? std::nullopt : std::optional<BaselineColumns>(pattern),
             ++gContextGeneration};
 }
 
@@ -50,9 +53,9 @@ std::uint32_t memoDims(const DimensionPlan& plan)
     return plan.sampleDims + kMaxGroupDims;
 }
 
-/// The OA values of the samples a thread is about to trace, made a dimension at a time for a run
-/// of up to kSampleRun consecutive samples of one pixel and pass (OaColumns: the library's
-/// functions, vectorized across the run). The GPU kernel evaluates one sample per invocation and
+/// The sample values a thread is about to trace, made a dimension at a time for a run of up to
+/// kSampleRun consecutive samples of one pixel and pass (OaColumns for the OAs: the library's
+/// functions, vectorized across the run; BaselineColumns for the baselines, which need no rows). The GPU kernel evaluates one sample per invocation and
 /// calls oas_draw; this loop takes a pixel's samples one after another, so a dimension's values
 /// for the rest of the run cost a fraction of one value each. A dimension is made when a sample
 /// first asks for it, from that sample to the end of the run: samples the tracer has passed never
@@ -154,8 +157,8 @@ vec2 pt_cpu_children_box(uint first, vec3 o, vec3 invD, float tMax)
     return vec2(boxEntry(nodes[0], o4, invD4, tMax), boxEntry(nodes[1], o4, invD4, tMax));
 }
 
-/// The OA path of pt_cpu_group_dims: the values from the thread's SampleRunMemo.
-OasDraw pt_cpu_oa_group_dims(uint seed, uint sampleIndex, uint first, uint count)
+/// pt_cpu_group_dims within memoDims: the values from the thread's SampleRunMemo.
+OasDraw pt_cpu_memo_group_dims(uint seed, uint sampleIndex, uint first, uint count)
 {
     const CpuContext& c = *tContext;
     SampleRunMemo& m = tSampleRun;
@@ -165,7 +168,9 @@ OasDraw pt_cpu_oa_group_dims(uint seed, uint sampleIndex, uint first, uint count
         m.generation = c.generation;
         m.seed = seed;
         m.first = index;
-        m.end = index + std::min<std::uint64_t>({kSampleRun, c.columns->samplesLeftInPass(sampleIndex),
+        const std::uint32_t inPass =
+            c.columns ? c.columns->samplesLeftInPass(sampleIndex) : c.baselineColumns->samplesLeftInPass(sampleIndex);
+        m.end = index + std::min<std::uint64_t>({kSampleRun, inPass,
                                                  std::max<std::uint64_t>(tBatchEnd, index + 1) - index});
         m.rowsFrom.assign(blocks, m.end);
         m.rows.resize(std::size_t(blocks) * kSampleRun);
@@ -177,7 +182,10 @@ OasDraw pt_cpu_oa_group_dims(uint seed, uint sampleIndex, uint first, uint count
     for (uint k = 0u; k < count; ++k) {
         const uint dim = first + k;
         float* values = &m.values[std::size_t(dim) * kSampleRun];
-        if (m.valuesFrom[dim] > index) {
+        if (m.valuesFrom[dim] > index && !c.columns) {
+            c.baselineColumns->values(seed, dim, sampleIndex, runLeft, values + offset);
+            m.valuesFrom[dim] = index;
+        } else if (m.valuesFrom[dim] > index) {
             const uint block = dim / c.pattern.blockDims;
             std::uint32_t* rows = &m.rows[std::size_t(block) * kSampleRun];
             if (m.rowsFrom[block] > index) {
@@ -192,14 +200,11 @@ OasDraw pt_cpu_oa_group_dims(uint seed, uint sampleIndex, uint first, uint count
     return d;
 }
 
-/// pt_group_dims for the CPU: the baselines (and dimensions past memoDims) through oas_draw, the
-/// OAs through the memo.
+/// pt_group_dims for the CPU: through the memo, or oas_draw for dimensions past memoDims.
 OasDraw pt_cpu_group_dims(uint seed, uint index, uint first, uint count)
 {
-    const OasPattern& pat = tContext->pattern;
-    if (pat.construction >= glsl::OAS_RANDOM || first + count > memoDims(*tContext->plan))
-        return oas_draw(pat, seed, index, first, count);
-    return pt_cpu_oa_group_dims(seed, index, first, count);
+    if (first + count > memoDims(*tContext->plan)) return oas_draw(tContext->pattern, seed, index, first, count);
+    return pt_cpu_memo_group_dims(seed, index, first, count);
 }
 
 }  // namespace shared

@@ -15,7 +15,9 @@ const uint OAS_JITTERED_2D = 17u;         ///< jittered nx*ny grid per dimension
 const uint OAS_CMJ_2D = 18u;              ///< Kensler 2013 correlated multi-jitter per pair, padded
 const uint OAS_ZERO_TWO = 19u;            ///< Owen-scrambled (0,2)-sequence per pair, padded
 const uint OAS_HALTON = 20u;              ///< Halton with random digit permutations
-const uint OAS_SOBOL = 21u;               ///< Owen-scrambled Sobol (needs OAS_SOBOL_DIRECTION, see oas_baselines.glsl)
+const uint OAS_SOBOL_OWEN = 21u;          ///< Sobol, per-bit nested uniform (Owen) scramble (needs OAS_SOBOL_DIRECTION)
+const uint OAS_SOBOL = 22u;               ///< Sobol, hash-based Owen scramble, Burley 2020 (needs OAS_SOBOL_DIRECTION)
+const uint OAS_SOBOL_BURLEY = 23u;        ///< Burley 2020: padded 4D Owen-scrambled Sobol, hash-shuffled (no table)
 
 // Offsets: where a point sits inside its OA stratum.
 const uint OAS_OFFSET_CENTERED = 0u;  ///< centre of the stratum
@@ -29,7 +31,7 @@ const uint OAS_OFFSET_CMJ = 3u;       ///< correlated multi-jittered: one substr
 /// struct is OasPattern in host/oas/oas_pattern.h, these words in this order: a field added here
 /// goes there too (tests/pattern_test.cpp reads both and fails when they differ).
 struct OasPattern {
-    uint construction; ///< OAS_BOSE ... OAS_HALTON
+    uint construction; ///< OAS_BOSE ... OAS_SOBOL_BURLEY
     uint offset;       ///< OAS_OFFSET_* (OA constructions only)
     uint N;            ///< points per pixel (one OA); sample indices >= N start fresh OAs
     uint s;            ///< levels (strata) per dimension of the OA

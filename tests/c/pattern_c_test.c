@@ -105,7 +105,9 @@ int main(void)
         check(oas_construction_from_name(oas_construction_name(oas_construction_at(i)), &code) == 0 &&
                   code == oas_construction_at(i), "listed code -> name -> code", i);
     }
-    check(i == 11 && oas_construction_at(0) == OAS_BOSE && oas_construction_at(10) == OAS_SOBOL, "11 constructions", i);
+    check(i == 13 && oas_construction_at(0) == OAS_BOSE && oas_construction_at(10) == OAS_SOBOL &&
+              oas_construction_at(12) == OAS_SOBOL_BURLEY,
+          "13 constructions", i);
     /* Valid counts from C (tests/pattern_test.cpp compares them with trial builds). */
     {
         uint32_t counts[8];

@@ -57,6 +57,10 @@ inline const std::vector<Case>& cases()
         {"halton", 16, 0, "cmj", 3},
         {"sobol", 16, 0, "cmj", 3},
         {"sobol", 10, 0, "cmj", 3},
+        {"sobol-owen", 16, 0, "cmj", 3},
+        {"sobol-owen", 10, 0, "cmj", 3},
+        {"sobol-burley", 16, 0, "cmj", 3},
+        {"sobol-burley", 10, 0, "cmj", 3},
     };
     return list;
 }

@@ -1,0 +1,55 @@
+// BaselineColumns: the baselines' per-run state made once, then one loop per dimension.
+#include "oas/baseline_columns.hpp"
+
+#include "oas/glsl_compat.hpp"
+
+namespace oas {
+namespace {
+
+/// The run's loop for one construction: `value(i)` is the value of in-pass index i. Flattened,
+/// so that the library's small functions inline into the loop and g++ can vectorize it (the
+/// random baseline's loop is one hash per lane).
+template <class Value>
+[[gnu::flatten]] inline void fill(std::uint32_t firstInPass, std::uint32_t count, float* out, Value value)
+{
+    for (std::uint32_t k = 0; k < count; ++k) out[k] = value(firstInPass + k);
+}
+
+}  // namespace
+
+BaselineColumns::BaselineColumns(const Pattern& pattern) : pattern_(pattern)
+{
+    if (pattern.construction < glsl::OAS_RANDOM)
+        throw InvalidArgument("BaselineColumns: " + describe(pattern) + " is an orthogonal array (use OaColumns)");
+}
+
+[[gnu::flatten]] void BaselineColumns::values(std::uint32_t pixelSeed, std::uint32_t dim, std::uint32_t firstIndex,
+                                              std::uint32_t count, float* out) const
+{
+    if (count > samplesLeftInPass(firstIndex))
+        throw InvalidArgument("BaselineColumns: a run of " + std::to_string(count) + " samples from index " +
+                              std::to_string(firstIndex) + " leaves its pass (N = " + std::to_string(pattern_.N) +
+                              "); at most " + std::to_string(samplesLeftInPass(firstIndex)) + " fit");
+    const glsl::OasPattern pat = glsl::toGlsl(pattern_);
+    // oas_baseline_sample, split: the pass and its seed are the run's.
+    const std::uint32_t pass = glsl::oas_div_n(pat, firstIndex);
+    const std::uint32_t passSeed = glsl::oas_pass_seed(pixelSeed, pass);
+    const std::uint32_t first = firstIndex - pass * pat.N;
+    switch (pat.construction) {
+    case glsl::OAS_RANDOM:  // oas_baseline_dim's independent values
+        return fill(first, count, out,
+                    [&](std::uint32_t i) { return float(glsl::oas_hash3(passSeed, dim, i) >> 8u) * glsl::OAS_INV_2POW24; });
+    case glsl::OAS_SOBOL_BURLEY:
+        return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_sobol_burley_dim(passSeed, i, dim); });
+    case glsl::OAS_JITTERED_2D:
+    case glsl::OAS_CMJ_2D:
+    case glsl::OAS_ZERO_TWO: {  // the pair's permutation keys and grid constants once per run
+        const glsl::OasPairColumn column = glsl::oas_pair_column(pat, passSeed, dim);
+        return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_pair_column_dim(pat, column, i); });
+    }
+    default:  // Halton and the table-driven Sobol samplers: the library's per-value code
+        return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_baseline_dim(pat, passSeed, i, dim); });
+    }
+}
+
+}  // namespace oas

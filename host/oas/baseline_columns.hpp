@@ -1,0 +1,40 @@
+#pragma once
+// Many samples of one baseline dimension in one call, on the CPU: the baselines' counterpart of
+// OaColumns (oa_columns.hpp), compiled from the same GLSL source (glsl_compat.hpp).
+//
+// Why: the CPU tracer fetched a baseline's values one sample and one dimension at a time
+// (oas_draw), remaking for every value what depends only on the pixel, pass and dimension: the
+// pass seed, the padded 2D pairs' permutation keys and grid reciprocals (oas_pair_column), the
+// Sobol block and scramble seeds. The OAs had a bulk path and the baselines did not, so on the
+// CPU twin a padded 2D render traced 0.18-0.35x the paths per second of an OA render (issue
+// "Every baseline at its best speed"; docs/BENCHMARKS.md). Here that state is made once per run,
+// and each value costs its own work only; independent random values are one hash each in a loop
+// g++ vectorizes.
+#include <cstdint>
+
+#include "oas/pattern.hpp"
+
+namespace oas {
+
+/// Bulk evaluation of one baseline pattern (construction >= OAS_RANDOM) on the CPU, for runs of
+/// consecutive samples of one pass: the sample indices [firstIndex, firstIndex + count) of one
+/// pixel with firstIndex / N == (firstIndex + count - 1) / N. values()[k] == oas::sample(pattern,
+/// pixelSeed, firstIndex + k, dim) bit for bit (tests/oa_columns_test.cpp).
+class BaselineColumns {
+public:
+    /// Throws InvalidArgument for an orthogonal array (OaColumns serves those).
+    explicit BaselineColumns(const Pattern& pattern);
+
+    /// Dimension `dim` for the run: out[k] for sample firstIndex + k. Throws InvalidArgument when
+    /// the run leaves its pass (count > samplesLeftInPass(firstIndex)).
+    void values(std::uint32_t pixelSeed, std::uint32_t dim, std::uint32_t firstIndex, std::uint32_t count, float* out) const;
+
+    /// The longest run that starts at `firstIndex` and stays in its pass.
+    std::uint32_t samplesLeftInPass(std::uint32_t firstIndex) const { return pattern_.N - firstIndex % pattern_.N; }
+    const Pattern& pattern() const { return pattern_; }
+
+private:
+    Pattern pattern_;
+};
+
+}  // namespace oas
