@@ -126,6 +126,9 @@ int main(int argc, char** argv)
             {"cmj2d", 121, 0, "cmj"},
             {"zerotwo", 128, 0, "cmj"},
             {"halton", 121, 0, "cmj"},
+            {"sobol", 128, 0, "cmj"},
+            {"sobol-owen", 128, 0, "cmj"},
+            {"sobol-burley", 128, 0, "cmj"},
         };
         std::unique_ptr<oas::vk::Context> context;
         std::unique_ptr<oas::GpuGenerator> gpu, hashOnly;

@@ -183,6 +183,37 @@ TEST(BaselineColumns, EveryBaselineEqualsOasSampleBitForBit)
     EXPECT_GT(compared, 100000u);
 }
 
+TEST(BaselineColumns, PairValuesAreEachDimensionsValues)
+{
+    // The padded 2D baselines' two dimensions of a pair at once (one shared cell per sample)
+    // equal values() of each dimension, for grids square, 1 x N (a prime N) and N = 2^24.
+    for (const char* name : {"jittered2d", "cmj2d", "zerotwo"})
+        for (std::uint32_t spp : {121u, 127u, 16777216u}) {
+            oas::PatternRequest r;
+            r.sampler = name;
+            r.spp = spp;
+            const oas::BaselineColumns columns(oas::makePattern(r));
+            ASSERT_TRUE(columns.padded2d());
+            std::vector<float> x(100), y(100), one(100);
+            for (std::uint32_t firstIndex : {0u, 7u, 2 * spp + 3})
+                for (std::uint32_t dim : {0u, 2u, 36u}) {
+                    columns.pairValues(0xabcu, dim, firstIndex, 100, x.data(), y.data());
+                    columns.values(0xabcu, dim, firstIndex, 100, one.data());
+                    ASSERT_EQ(x, one) << name << " " << spp << " dim " << dim;
+                    columns.values(0xabcu, dim + 1, firstIndex, 100, one.data());
+                    ASSERT_EQ(y, one) << name << " " << spp << " dim " << dim + 1;
+                }
+            EXPECT_THROW(columns.pairValues(1u, 1u, 0u, 10u, x.data(), y.data()), oas::InvalidArgument);  // odd dim
+        }
+    oas::PatternRequest r;
+    r.sampler = "halton";
+    r.spp = 121;
+    const oas::BaselineColumns halton(oas::makePattern(r));
+    EXPECT_FALSE(halton.padded2d());
+    std::vector<float> x(10), y(10);
+    EXPECT_THROW(halton.pairValues(1u, 0u, 0u, 10u, x.data(), y.data()), oas::InvalidArgument);
+}
+
 TEST(BaselineColumns, RefusesRunsThatLeaveTheirPassAndOrthogonalArrays)
 {
     oas::PatternRequest r;

@@ -549,10 +549,33 @@ TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
         for (std::size_t i = 0; i < expected.pixelCount(); ++i) total += render::meanValue(expected.pixel(i), 0);
         EXPECT_GT(total, 0.0) << name << " renders black: the comparison would prove nothing";
     }
-    // The baselines draw inline: their values are a few hashes, with no per-pass state to share.
-    auto s = loadTestScene("cornell7d.json");
+    // The padded 2D baselines are prefetched by default too (their pairs' keys are per pass); the
+    // others draw inline (nothing to share), but any of them prefetched gives the inline sums,
+    // across a pass.
+    auto s = loadTestScene("blue_spheres9d.json");
+    s.width = 16;
+    s.height = 9;
     const auto plan = render::planDimensions(s);
-    EXPECT_EQ(render::prefetchDims(plan, patternFor(s, plan, 16, "random")), 0u);
+    const auto data = render::flattenScene(s);
+    for (const auto& sampler : oas::samplerNames()) {
+        if (oas::isOrthogonalArray(sampler)) continue;
+        const auto pattern = patternFor(s, plan, 16, sampler.c_str());
+        const bool padded = sampler == "jittered2d" || sampler == "cmj2d" || sampler == "zerotwo";
+        ASSERT_EQ(render::prefetchDims(plan, pattern) != 0u, padded) << sampler;
+        render::SampleBatch batch;
+        batch.width = s.width;
+        batch.height = s.height;
+        batch.count = 3;
+        batch.firstSample = pattern.N - 1;
+        batch.seed = 5;
+        using Prefetch = render::GpuTracerOptions::Prefetch;
+        render::GpuTracer inlineFetch(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, Prefetch::Never});
+        render::GpuTracer prefetched(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, Prefetch::Always});
+        inlineFetch.trace(batch);
+        prefetched.trace(batch);
+        EXPECT_TRUE(prefetched.accumulation().words == inlineFetch.accumulation().words)
+            << sampler << ": the prefetched samples' sums differ";
+    }
 }
 
 TEST_F(RenderGpu, BatchesOfSamplesPerDispatchGiveTheSumsOfOneSampleAtATime)

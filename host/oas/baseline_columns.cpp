@@ -1,6 +1,9 @@
 // BaselineColumns: the baselines' per-run state made once, then one loop per dimension.
 #include "oas/baseline_columns.hpp"
 
+// The library's fixed-trip loops unrolled, as on the GPU: Sobol-Burley's direction numbers then
+// fold to constants, and the Sobol and Halton digit loops lose their loop overhead.
+#define OAS_UNROLL _Pragma("GCC unroll 32")
 #include "oas/glsl_compat.hpp"
 
 namespace oas {
@@ -17,19 +20,45 @@ template <class Value>
 
 }  // namespace
 
-BaselineColumns::BaselineColumns(const Pattern& pattern) : pattern_(pattern)
+BaselineColumns::BaselineColumns(const Pattern& pattern)
+    : pattern_(pattern), padded2d_(glsl::oas_is_padded_2d(glsl::toGlsl(pattern)))
 {
     if (pattern.construction < glsl::OAS_RANDOM)
         throw InvalidArgument("BaselineColumns: " + describe(pattern) + " is an orthogonal array (use OaColumns)");
 }
 
-[[gnu::flatten]] void BaselineColumns::values(std::uint32_t pixelSeed, std::uint32_t dim, std::uint32_t firstIndex,
-                                              std::uint32_t count, float* out) const
+void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) const
 {
     if (count > samplesLeftInPass(firstIndex))
         throw InvalidArgument("BaselineColumns: a run of " + std::to_string(count) + " samples from index " +
                               std::to_string(firstIndex) + " leaves its pass (N = " + std::to_string(pattern_.N) +
                               "); at most " + std::to_string(samplesLeftInPass(firstIndex)) + " fit");
+}
+
+[[gnu::flatten]] void BaselineColumns::pairValues(std::uint32_t pixelSeed, std::uint32_t firstDim, std::uint32_t firstIndex,
+                                                  std::uint32_t count, float* outX, float* outY) const
+{
+    if (!padded2d_ || firstDim % 2 != 0)
+        throw InvalidArgument("BaselineColumns::pairValues: " + describe(pattern_) + ", first dimension " +
+                              std::to_string(firstDim) + ": needs a padded 2D pattern and an even first dimension");
+    checkRun(firstIndex, count);
+    const glsl::OasPattern pat = glsl::toGlsl(pattern_);
+    const std::uint32_t pass = glsl::oas_div_n(pat, firstIndex);
+    const std::uint32_t passSeed = glsl::oas_pass_seed(pixelSeed, pass);
+    const std::uint32_t first = firstIndex - pass * pat.N;
+    const glsl::OasPairColumn x = glsl::oas_pair_column(pat, passSeed, firstDim);
+    const glsl::OasPairColumn y = glsl::oas_pair_column(pat, passSeed, firstDim + 1);
+    for (std::uint32_t k = 0; k < count; ++k) {
+        const std::uint32_t i = first + k, cell = glsl::oas_pair_cell(x, i);  // one shuffle serves both
+        outX[k] = glsl::oas_pair_cell_dim(pat, x, cell, i);
+        outY[k] = glsl::oas_pair_cell_dim(pat, y, cell, i);
+    }
+}
+
+[[gnu::flatten]] void BaselineColumns::values(std::uint32_t pixelSeed, std::uint32_t dim, std::uint32_t firstIndex,
+                                              std::uint32_t count, float* out) const
+{
+    checkRun(firstIndex, count);
     const glsl::OasPattern pat = glsl::toGlsl(pattern_);
     // oas_baseline_sample, split: the pass and its seed are the run's.
     const std::uint32_t pass = glsl::oas_div_n(pat, firstIndex);

@@ -29,12 +29,23 @@ public:
     /// the run leaves its pass (count > samplesLeftInPass(firstIndex)).
     void values(std::uint32_t pixelSeed, std::uint32_t dim, std::uint32_t firstIndex, std::uint32_t count, float* out) const;
 
+    /// Whether the pattern pads 2D pairs (jittered2d, cmj2d, zerotwo): then pairValues() makes a
+    /// pair's two dimensions for the price of one shuffle of the sample order.
+    bool padded2d() const { return padded2d_; }
+    /// Dimensions `firstDim` (even) and firstDim + 1 of a padded 2D pattern for the run, the
+    /// pair's shared cell made once per sample: outX[k], outY[k] == values() of each. Throws
+    /// InvalidArgument for other patterns, an odd firstDim or a run that leaves its pass.
+    void pairValues(std::uint32_t pixelSeed, std::uint32_t firstDim, std::uint32_t firstIndex, std::uint32_t count, float* outX,
+                    float* outY) const;
+
     /// The longest run that starts at `firstIndex` and stays in its pass.
     std::uint32_t samplesLeftInPass(std::uint32_t firstIndex) const { return pattern_.N - firstIndex % pattern_.N; }
     const Pattern& pattern() const { return pattern_; }
 
 private:
+    void checkRun(std::uint32_t firstIndex, std::uint32_t count) const;
     Pattern pattern_;
+    bool padded2d_;
 };
 
 }  // namespace oas

@@ -113,8 +113,10 @@ std::uint32_t fetchedDimsEnd(const DimensionPlan& plan, const Pattern& pattern);
 
 /// Dimensions per (pixel, sample) the GPU kernel reads from prefetched samples
 /// (pt_constants.glsl's PT_PREFETCH_DIMS): fetchedDimsEnd rounded up to whole uvec4 texels for
-/// the OA constructions, 0 (each sample's own oas_draw in the kernel) for the baselines, whose
-/// values are a few hashes each with no per-pass state to share.
+/// the OAs and the padded 2D baselines, whose pairs' permutation keys the generation kernel makes
+/// once per pass; 0 (each sample's own oas_draw in the kernel) for the other baselines, which
+/// have no per-pass state to share: prefetched, Halton and the Sobol samplers rendered 0.8-0.9x as
+/// fast on lavapipe (docs/BENCHMARKS.md).
 std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern);
 
 /// The most prefetched dimensions per sample where GpuTracerOptions::Prefetch::WherePays decides.
@@ -139,7 +141,8 @@ struct GpuTracerOptions {
     /// (oas_generate.comp, which makes a pixel's block and column state once per pass for the
     /// batch's samples) and read by the path tracer, or made with oas_draw inside the path tracer,
     /// every sample its own. The same values either way. WherePays prefetches plans of at most
-    /// kPrefetchPaysUpToDims dimensions; baselines always draw inline (prefetchDims).
+    /// kPrefetchPaysUpToDims dimensions; baselines without per-pass state always draw inline
+    /// (prefetchDims).
     enum class Prefetch { WherePays, Always, Never };
     Prefetch prefetch = Prefetch::WherePays;
     /// Caps the points (pixels x samples) one generation dispatch makes; 0: the device's limits.

@@ -183,8 +183,18 @@ OasDraw pt_cpu_memo_group_dims(uint seed, uint sampleIndex, uint first, uint cou
         const uint dim = first + k;
         float* values = &m.values[std::size_t(dim) * kSampleRun];
         if (m.valuesFrom[dim] > index && !c.columns) {
-            c.baselineColumns->values(seed, dim, sampleIndex, runLeft, values + offset);
-            m.valuesFrom[dim] = index;
+            const uint pairFirst = dim & ~1u;
+            if (c.baselineColumns->padded2d() && pairFirst + 1 < memoDims(*c.plan)) {
+                // Both dimensions of the pair: they share each sample's cell. The partner's
+                // values from this index on are the same bits, so keep the earlier start.
+                float* x = &m.values[std::size_t(pairFirst) * kSampleRun];
+                c.baselineColumns->pairValues(seed, pairFirst, sampleIndex, runLeft, x + offset, x + kSampleRun + offset);
+                m.valuesFrom[pairFirst] = std::min<std::uint64_t>(m.valuesFrom[pairFirst], index);
+                m.valuesFrom[pairFirst + 1] = std::min<std::uint64_t>(m.valuesFrom[pairFirst + 1], index);
+            } else {
+                c.baselineColumns->values(seed, dim, sampleIndex, runLeft, values + offset);
+                m.valuesFrom[dim] = index;
+            }
         } else if (m.valuesFrom[dim] > index) {
             const uint block = dim / c.pattern.blockDims;
             std::uint32_t* rows = &m.rows[std::size_t(block) * kSampleRun];

@@ -32,7 +32,8 @@ std::unique_ptr<vk::Buffer> upload(vk::Context& context, const std::vector<T>& i
 
 std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern)
 {
-    if (pattern.construction >= glsl::OAS_RANDOM) return 0;
+    const bool padded2d = glsl::oas_is_padded_2d(glsl::toGlsl(pattern));
+    if (pattern.construction >= glsl::OAS_RANDOM && !padded2d) return 0;  // no per-pass state to share
     return (fetchedDimsEnd(plan, pattern) + 3) / 4 * 4;
 }
 
@@ -62,9 +63,10 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
 {
     const SceneFeatures features = sceneFeatures(data);
     pt::PtSpecialization s = specialization(plan, pattern, options.stage, options.specialiseSceneFeatures ? &features : nullptr);
-    const std::uint32_t dims = prefetchDims(plan, pattern);
-    const bool prefetch = options.prefetch == GpuTracerOptions::Prefetch::Always ||
-                          (options.prefetch == GpuTracerOptions::Prefetch::WherePays && dims <= kPrefetchPaysUpToDims);
+    // Always prefetches any pattern (the tests and the benchmark's profile); WherePays what pays.
+    const bool always = options.prefetch == GpuTracerOptions::Prefetch::Always;
+    const std::uint32_t dims = always ? (fetchedDimsEnd(plan, pattern) + 3) / 4 * 4 : prefetchDims(plan, pattern);
+    const bool prefetch = always || (options.prefetch == GpuTracerOptions::Prefetch::WherePays && dims <= kPrefetchPaysUpToDims);
     s.PT_PREFETCH_DIMS = prefetch ? dims : 0;
     prefetchDims_ = s.PT_PREFETCH_DIMS;
 #define PT_SPEC_ENTRY(NAME, ID, TYPE, DEFAULT, HOST) {ID, std::uint32_t(s.NAME)},

@@ -33,8 +33,9 @@ uint oas_sobol_dim1(uint index)
 /// Nested uniform (Owen 1995) scrambling of the top 24 bits of a 32-bit fraction: bit b flips
 /// when a hash of the bits above it says so, which permutes every elementary interval's halves
 /// independently. Bits below the top 24 are left as they are: the caller keeps only the top 24.
-/// The reference scramble (OAS_SOBOL_OWEN, zerotwo): 24 hashes a value. OAS_SOBOL and
-/// OAS_SOBOL_BURLEY use oas_owen_scramble_hash, the same structure for a chain of multiplies.
+/// The reference scramble (OAS_SOBOL_OWEN): 24 hashes a value. OAS_SOBOL, OAS_SOBOL_BURLEY and
+/// zerotwo use oas_owen_scramble_hash, the same structure for a chain of multiplies (zerotwo
+/// used this one until version 0.3).
 uint oas_owen_scramble24(uint x, uint seed)
 {
     uint result = x;
@@ -193,7 +194,7 @@ struct OasPairColumn {
     uint axis;               ///< 0: x of the pair, 1: y
     OasPermutation order;    ///< the pair's shuffle of the sample order
     OasPermutation across;   ///< cmj2d: the sub-stratum permutation this axis reads (l = 1 otherwise)
-    uint scrambleSeed;       ///< zerotwo: the Owen scrambling seed of this axis
+    uint scrambleSeed;       ///< zerotwo: the Owen scrambling seed of this axis (oas_owen_scramble_hash)
     uint recipX;             ///< oas_fastdiv constants of nx (a cell's row is its index / nx)
     uint shiftX;
     uint strata;             ///< K, the strata of this axis: nx or ny (jittered2d), N (cmj2d)
@@ -243,7 +244,7 @@ float oas_pair_cell_dim(OasPattern pat, OasPairColumn c, uint i, uint index)
     uint jitter = oas_hash3(c.pairSeed ^ OAS_TAG_JITTER, c.axis, index);
     if (OAS_CONSTRUCTION(pat) == OAS_ZERO_TWO) {
         uint x = c.axis == 0u ? oas_reverse_bits(i) : oas_sobol_dim1(i);
-        return float(oas_owen_scramble24(x, c.scrambleSeed) >> 8u) * OAS_INV_2POW24;
+        return float(oas_owen_scramble_hash(x, c.scrambleSeed) >> 8u) * OAS_INV_2POW24;
     }
     uint nx = pat.aux;
     uint ny = pat.aux2;
@@ -297,28 +298,35 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
         // At most OAS_INDEX_BITS digits (base 2 at N = 2^24), in fixed loops with the unused steps
         // masked: the first OAS_HALTON_ODD_BASE_DIGITS for every base (base 3 needs no more), the rest
         // for base 2 only, whose digit permutations d -> a d + b mod 2 are d XOR b (a = 1), which
-        // saves their multiplies and divisions (lavapipe pays for masked steps in full).
-        // Divisions by the base go through one reciprocal made here (bases are below 2^8).
+        // saves their multiplies and divisions (lavapipe pays for masked steps in full): their
+        // nine b are nine bits of one hash. Divisions by the base go through one reciprocal made
+        // here (bases are below 2^8). The digit permutations' keys are a 32-bit LCG stream seeded
+        // by the dimension, read through its high bits (mulhi), one step per key: until version
+        // 0.3 each was a hash of (dimension seed, digit), and those hashes were most of a value.
         uint shiftBase = uint(findMSB(base - 1u)) + 1u;
         uint recipBase = oas_fastdiv_recip(base, shiftBase);
         uint strataLimit = oas_fastdiv(OAS_ONE_FIXED, recipBase, shiftBase);
         uint strata = 1u;
         uint m = 0u;
+        uint key = dimSeed;
         OAS_UNROLL for (uint digitIndex = 0u; digitIndex < OAS_HALTON_ODD_BASE_DIGITS; ++digitIndex) {
+            key = key * 0x2c1b3c6du + 0x297a2d39u;
+            uint scaleKey = key;
+            key = key * 0x2c1b3c6du + 0x297a2d39u;
             if (strata < pat.N && strata <= strataLimit) {
                 uint next = oas_fastdiv(i, recipBase, shiftBase);
                 uint d = i - next * base;
                 i = next;
-                uint key = oas_hash2(dimSeed, digitIndex);
-                uint permuted = (1u + oas_mulhi(key, base - 1u)) * d + oas_mulhi(oas_pcg(key), base);  // < base^2
+                uint permuted = (1u + oas_mulhi(scaleKey, base - 1u)) * d + oas_mulhi(key, base);  // < base^2
                 uint pd = permuted - oas_fastdiv(permuted, recipBase, shiftBase) * base;
                 m = m * base + pd;  // digit k lands at base^-(k+1): reversed order builds m
                 strata *= base;
             }
         }
+        uint flips = oas_pcg(key);  // base 2's last nine digits: bit (digitIndex - 15) flips digitIndex
         OAS_UNROLL for (uint digitIndex = OAS_HALTON_ODD_BASE_DIGITS; digitIndex < OAS_INDEX_BITS; ++digitIndex) {
             if (base == 2u && strata < pat.N) {  // strata <= 2^23 here, so within the limit
-                uint pd = (i & 1u) ^ (oas_pcg(oas_hash2(dimSeed, digitIndex)) >> 31u);
+                uint pd = (i & 1u) ^ ((flips >> (digitIndex - OAS_HALTON_ODD_BASE_DIGITS)) & 1u);
                 i >>= 1u;
                 m = m * 2u + pd;
                 strata *= 2u;
