@@ -274,7 +274,15 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
     if (sobol) {
         uint block = dim / OAS_SOBOL_BLOCK;
         uint blockSeed = oas_hash2(seed, block);
-        uint i = block == 0u ? index : oas_permute(index, pat.N, blockSeed ^ OAS_TAG_ROW);
+        // Blocks past the first shuffle the indices, so that dimension 1024 + k is not dimension
+        // k again. OAS_SOBOL_OWEN permutes [0, N) (oas_permute, its values since version 0.2);
+        // OAS_SOBOL scrambles the index's bits as Burley pads (a bijection of every aligned
+        // power-of-two block, so a block of 2^m indices stays a net): a few multiplies where
+        // oas_permute makes four rounds' keys, and lavapipe pays for the shuffle in block 0 too
+        // (it runs both sides of the select).
+        uint shuffled = OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN ? oas_permute(index, pat.N, blockSeed ^ OAS_TAG_ROW)
+                                                                : oas_owen_scramble_hash(index, blockSeed ^ OAS_TAG_ROW);
+        uint i = block == 0u ? index : shuffled;
         uint x = oas_sobol(i, dim - block * OAS_SOBOL_BLOCK);
         uint dimSeed = oas_hash2(blockSeed, dim);
         uint scrambled = OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN ? oas_owen_scramble24(x, dimSeed) : oas_owen_scramble_hash(x, dimSeed);
