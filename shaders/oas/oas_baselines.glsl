@@ -317,11 +317,14 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
         uint strata = 1u;
         uint m = 0u;
         uint key = dimSeed;
+        // The keys advance inside the step: once a step is skipped so are all later ones (strata
+        // only grows), and the last nine digits' flips are read only when all fifteen steps ran,
+        // so the values are the same as advancing always, and a CPU skips the unused keys.
         OAS_UNROLL for (uint digitIndex = 0u; digitIndex < OAS_HALTON_ODD_BASE_DIGITS; ++digitIndex) {
-            key = key * 0x2c1b3c6du + 0x297a2d39u;
-            uint scaleKey = key;
-            key = key * 0x2c1b3c6du + 0x297a2d39u;
             if (strata < pat.N && strata <= strataLimit) {
+                key = key * 0x2c1b3c6du + 0x297a2d39u;
+                uint scaleKey = key;
+                key = key * 0x2c1b3c6du + 0x297a2d39u;
                 uint next = oas_fastdiv(i, recipBase, shiftBase);
                 uint d = i - next * base;
                 i = next;
