@@ -1,5 +1,6 @@
 // BaselineColumns: the baselines' per-run state made once, then one loop per dimension.
 #include "oas/baseline_columns.hpp"
+#include <algorithm>
 
 // The library's fixed-trip loops unrolled, as on the GPU: Sobol-Burley's direction numbers then
 // fold to constants, and the Sobol and Halton digit loops lose their loop overhead.
@@ -17,6 +18,38 @@ template <class Value>
 {
     for (std::uint32_t k = 0; k < count; ++k) out[k] = value(firstInPass + k);
 }
+
+/// A padded pair column with cmj2d's across permutation tabulated over its inputs when the
+/// table is no longer than the run (a 1 x N grid of a prime N has an across permutation of length
+/// N, applied per sample instead): one permutation apply per sample saved for a few per run.
+class PairColumn {
+public:
+    PairColumn(const glsl::OasPattern& pat, std::uint32_t passSeed, std::uint32_t dim, std::uint32_t count)
+        : pat_(pat), column_(glsl::oas_pair_column(pat, passSeed, dim)), cmj_(pat.construction == glsl::OAS_CMJ_2D)
+    {
+        tabulated_ = cmj_ && column_.across.l <= std::min<std::uint32_t>(count, kMaxTable);
+        if (tabulated_)
+            for (std::uint32_t v = 0; v < column_.across.l; ++v) table_[v] = glsl::oas_permutation_apply(column_.across, v);
+    }
+    std::uint32_t cell(std::uint32_t index) const { return glsl::oas_pair_cell(column_, index); }
+    /// oas_pair_cell_dim(pat, column, cell, index), bit for bit.
+    float value(std::uint32_t cell, std::uint32_t index) const
+    {
+        std::uint32_t across = 0;
+        if (cmj_) {
+            const std::uint32_t input = glsl::oas_pair_across_input(pat_, column_, cell);
+            across = tabulated_ ? table_[input] : glsl::oas_permutation_apply(column_.across, input);
+        }
+        return glsl::oas_pair_cell_dim_across(pat_, column_, cell, index, across);
+    }
+
+private:
+    static constexpr std::uint32_t kMaxTable = 256;
+    const glsl::OasPattern& pat_;
+    glsl::OasPairColumn column_;
+    bool cmj_, tabulated_ = false;
+    std::uint32_t table_[kMaxTable];
+};
 
 }  // namespace
 
@@ -46,12 +79,11 @@ void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) co
     const std::uint32_t pass = glsl::oas_div_n(pat, firstIndex);
     const std::uint32_t passSeed = glsl::oas_pass_seed(pixelSeed, pass);
     const std::uint32_t first = firstIndex - pass * pat.N;
-    const glsl::OasPairColumn x = glsl::oas_pair_column(pat, passSeed, firstDim);
-    const glsl::OasPairColumn y = glsl::oas_pair_column(pat, passSeed, firstDim + 1);
+    const PairColumn x(pat, passSeed, firstDim, count), y(pat, passSeed, firstDim + 1, count);
     for (std::uint32_t k = 0; k < count; ++k) {
-        const std::uint32_t i = first + k, cell = glsl::oas_pair_cell(x, i);  // one shuffle serves both
-        outX[k] = glsl::oas_pair_cell_dim(pat, x, cell, i);
-        outY[k] = glsl::oas_pair_cell_dim(pat, y, cell, i);
+        const std::uint32_t i = first + k, cell = x.cell(i);  // one shuffle serves both
+        outX[k] = x.value(cell, i);
+        outY[k] = y.value(cell, i);
     }
 }
 
@@ -73,8 +105,8 @@ void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) co
     case glsl::OAS_JITTERED_2D:
     case glsl::OAS_CMJ_2D:
     case glsl::OAS_ZERO_TWO: {  // the pair's permutation keys and grid constants once per run
-        const glsl::OasPairColumn column = glsl::oas_pair_column(pat, passSeed, dim);
-        return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_pair_column_dim(pat, column, i); });
+        const PairColumn column(pat, passSeed, dim, count);
+        return fill(first, count, out, [&](std::uint32_t i) { return column.value(column.cell(i), i); });
     }
     default:  // Halton and the table-driven Sobol samplers: the library's per-value code
         return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_baseline_dim(pat, passSeed, i, dim); });

@@ -237,9 +237,18 @@ OasPairColumn oas_pair_column(OasPattern pat, uint seed, uint dim)
 /// of the pair (their columns share the order), so a caller filling both computes it once.
 uint oas_pair_cell(OasPairColumn c, uint index) { return oas_permutation_apply(c.order, index); }
 
-/// Sample `index` (< N), in cell i = oas_pair_cell(c, index), of the padded 2D baseline
-/// dimension that `c` was made for.
-float oas_pair_cell_dim(OasPattern pat, OasPairColumn c, uint i, uint index)
+/// cmj2d's input to its across permutation for cell i: the cell's row cy for x, its column cx
+/// for y (a CPU caller tabulates c.across over these per run: oas_pair_cell_dim_across).
+uint oas_pair_across_input(OasPattern pat, OasPairColumn c, uint i)
+{
+    uint cy = oas_fastdiv(i, c.recipX, c.shiftX);
+    return c.axis == 0u ? cy : i - cy * pat.aux;
+}
+
+/// oas_pair_cell_dim with cmj2d's permuted sub-stratum given: acrossImage =
+/// oas_permutation_apply(c.across, oas_pair_across_input(pat, c, i)) for cmj2d (ignored by the
+/// other padded baselines).
+float oas_pair_cell_dim_across(OasPattern pat, OasPairColumn c, uint i, uint index, uint acrossImage)
 {
     uint jitter = oas_hash3(c.pairSeed ^ OAS_TAG_JITTER, c.axis, index);
     if (OAS_CONSTRUCTION(pat) == OAS_ZERO_TWO) {
@@ -254,9 +263,16 @@ float oas_pair_cell_dim(OasPattern pat, OasPairColumn c, uint i, uint index)
     // x-substratum is a permutation of its row, shared by all rows (and vice versa), which makes
     // both 1D projections N-strata Latin hypercubes.
     uint stratum = c.axis == 0u ? cx : cy;
-    if (OAS_CONSTRUCTION(pat) == OAS_CMJ_2D)
-        stratum = c.axis == 0u ? cx * ny + oas_permutation_apply(c.across, cy) : cy * nx + oas_permutation_apply(c.across, cx);
+    if (OAS_CONSTRUCTION(pat) == OAS_CMJ_2D) stratum = c.axis == 0u ? cx * ny + acrossImage : cy * nx + acrossImage;
     return oas_stratum_point_fast(stratum, c.strata, c.recipStrata, c.shiftStrata, jitter);
+}
+
+/// Sample `index` (< N), in cell i = oas_pair_cell(c, index), of the padded 2D baseline
+/// dimension that `c` was made for.
+float oas_pair_cell_dim(OasPattern pat, OasPairColumn c, uint i, uint index)
+{
+    uint acrossImage = OAS_CONSTRUCTION(pat) == OAS_CMJ_2D ? oas_permutation_apply(c.across, oas_pair_across_input(pat, c, i)) : 0u;
+    return oas_pair_cell_dim_across(pat, c, i, index, acrossImage);
 }
 
 /// Sample `index` (< N) of the padded 2D baseline dimension that `c` was made for.
