@@ -133,7 +133,7 @@ TEST_F(GpuCpu, Padded2dRunsCrossPassesChunksAndAnOddLastDimension)
     // firstSample), chunk seams fall inside runs' groups, the last pair has one dimension (7
     // dims), and the last indices reach 2^32 - 1.
     oas::GpuGenerator& gpu = generator();
-    for (const char* sampler : {"jittered2d", "cmj2d", "zerotwo"}) {
+    for (const char* sampler : {"jittered2d", "cmj2d", "zerotwo", "random"}) {  // random: runs too, 8 dims a group
         oas::PatternRequest req;
         req.sampler = sampler;
         req.spp = std::string(sampler) == "zerotwo" ? 128 : 100;

@@ -48,7 +48,9 @@ struct Layout {
 /// a run of 128 samples x 4 dimensions is far below the cap for every construction and field.
 std::uint32_t samplesPerRun(const Pattern& p)
 {
-    if (p.construction >= glsl::OAS_RANDOM && !isPadded2d(p)) return 1;  // see kBaselineGroupDims
+    // Halton and the Sobol samplers: see kBaselineGroupDims. Random takes runs (its pass seed once
+    // per run), 128 samples x 8 dimensions at most, far below the cap too.
+    if (p.construction > glsl::OAS_RANDOM && !isPadded2d(p)) return 1;
     return 128;
 }
 
