@@ -1,6 +1,7 @@
 // BaselineColumns: the baselines' per-run state made once, then one loop per dimension.
 #include "oas/baseline_columns.hpp"
 #include <algorithm>
+#include <bit>
 
 // The library's fixed-trip loops unrolled, as on the GPU: Sobol-Burley's direction numbers then
 // fold to constants, and the Sobol and Halton digit loops lose their loop overhead.
@@ -108,7 +109,30 @@ void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) co
         const PairColumn column(pat, passSeed, dim, count);
         return fill(first, count, out, [&](std::uint32_t i) { return column.value(column.cell(i), i); });
     }
-    default:  // Halton and the table-driven Sobol samplers: the library's per-value code
+    case glsl::OAS_SOBOL:
+    case glsl::OAS_SOBOL_OWEN:
+        if (dim < glsl::OAS_SOBOL_BLOCK) {
+            // Block 0 takes the indices as they are, so consecutive samples' Sobol points differ by
+            // the direction numbers of the bits that change: from i - 1 to i, bits 0 .. ctz(i),
+            // whose XOR is prefix[ctz(i)]. oas_baseline_dim's seeds and scramble, per value; the
+            // 24-step matrix product once per run (Sobol is linear over XOR, so the bits agree;
+            // tests/oa_columns_test.cpp compares every value with oas_sample).
+            const std::uint32_t* v = &sobolDirections()[std::size_t(dim) * 32];
+            std::uint32_t prefix[glsl::OAS_INDEX_BITS];
+            prefix[0] = v[0];
+            for (std::uint32_t b = 1; b < glsl::OAS_INDEX_BITS; ++b) prefix[b] = prefix[b - 1] ^ v[b];
+            const std::uint32_t dimSeed = glsl::oas_hash2(glsl::oas_hash2(passSeed, 0u), dim);
+            const bool owen = pat.construction == glsl::OAS_SOBOL_OWEN;
+            std::uint32_t x = glsl::oas_sobol(first, dim);
+            for (std::uint32_t k = 0; k < count; ++k) {
+                if (k != 0) x ^= prefix[std::countr_zero(first + k)];
+                const std::uint32_t scrambled = owen ? glsl::oas_owen_scramble24(x, dimSeed) : glsl::oas_owen_scramble_hash(x, dimSeed);
+                out[k] = float(scrambled >> 8u) * glsl::OAS_INV_2POW24;
+            }
+            return;
+        }
+        [[fallthrough]];
+    default:  // Halton and later Sobol blocks: the library's per-value code
         return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_baseline_dim(pat, passSeed, i, dim); });
     }
 }
