@@ -121,13 +121,11 @@ void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) co
             std::uint32_t prefix[glsl::OAS_INDEX_BITS];
             prefix[0] = v[0];
             for (std::uint32_t b = 1; b < glsl::OAS_INDEX_BITS; ++b) prefix[b] = prefix[b - 1] ^ v[b];
-            const std::uint32_t dimSeed = glsl::oas_hash2(glsl::oas_hash2(passSeed, 0u), dim);
-            const bool owen = pat.construction == glsl::OAS_SOBOL_OWEN;
+            const std::uint32_t dimSeed = glsl::oas_hash2(glsl::oas_hash2(passSeed, 0u), dim);  // block 0's
             std::uint32_t x = glsl::oas_sobol(first, dim);
             for (std::uint32_t k = 0; k < count; ++k) {
                 if (k != 0) x ^= prefix[std::countr_zero(first + k)];
-                const std::uint32_t scrambled = owen ? glsl::oas_owen_scramble24(x, dimSeed) : glsl::oas_owen_scramble_hash(x, dimSeed);
-                out[k] = float(scrambled >> 8u) * glsl::OAS_INV_2POW24;
+                out[k] = glsl::oas_sobol_value(pat, x, dimSeed);
             }
             return;
         }

@@ -55,8 +55,8 @@ std::uint32_t memoDims(const DimensionPlan& plan)
 
 /// The sample values a thread is about to trace, made a dimension at a time for a run of up to
 /// kSampleRun consecutive samples of one pixel and pass (OaColumns for the OAs: the library's
-/// functions, vectorized across the run; BaselineColumns for the baselines, which need no rows). The GPU kernel evaluates one sample per invocation and
-/// calls oas_draw; this loop takes a pixel's samples one after another, so a dimension's values
+/// functions, vectorized across the run; BaselineColumns for the baselines, which need no rows).
+/// The GPU kernel evaluates one sample per invocation and calls oas_draw; this loop takes a pixel's samples one after another, so a dimension's values
 /// for the rest of the run cost a fraction of one value each. A dimension is made when a sample
 /// first asks for it, from that sample to the end of the run: samples the tracer has passed never
 /// ask again, and a deep dimension that only some paths reach is not made for the samples before

@@ -30,11 +30,19 @@ std::unique_ptr<vk::Buffer> upload(vk::Context& context, const std::vector<T>& i
 
 }  // namespace
 
+namespace {
+/// The dimensions a sample reads, rounded up to whole uvec4 texels: what a prefetch writes.
+std::uint32_t fetchedTexelDims(const DimensionPlan& plan, const Pattern& pattern)
+{
+    return (fetchedDimsEnd(plan, pattern) + 3) / 4 * 4;
+}
+}  // namespace
+
 std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern)
 {
     const bool padded2d = glsl::oas_is_padded_2d(glsl::toGlsl(pattern));
     if (pattern.construction >= glsl::OAS_RANDOM && !padded2d) return 0;  // no per-pass state to share
-    return (fetchedDimsEnd(plan, pattern) + 3) / 4 * 4;
+    return fetchedTexelDims(plan, pattern);
 }
 
 pt::PtSpecialization specialization(const DimensionPlan& plan, const Pattern& pattern, KernelStage stage,
@@ -65,7 +73,7 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     pt::PtSpecialization s = specialization(plan, pattern, options.stage, options.specialiseSceneFeatures ? &features : nullptr);
     // Always prefetches any pattern (the tests and the benchmark's profile); WherePays what pays.
     const bool always = options.prefetch == GpuTracerOptions::Prefetch::Always;
-    const std::uint32_t dims = always ? (fetchedDimsEnd(plan, pattern) + 3) / 4 * 4 : prefetchDims(plan, pattern);
+    const std::uint32_t dims = always ? fetchedTexelDims(plan, pattern) : prefetchDims(plan, pattern);
     const bool prefetch = always || (options.prefetch == GpuTracerOptions::Prefetch::WherePays && dims <= kPrefetchPaysUpToDims);
     s.PT_PREFETCH_DIMS = prefetch ? dims : 0;
     prefetchDims_ = s.PT_PREFETCH_DIMS;

@@ -166,6 +166,15 @@ const uint OAS_SOBOL_BLOCK = 1024u;
 #if !defined(OAS_SOBOL_DIRECTION) && !defined(OAS_NO_SOBOL)
 #error "oas.glsl: define OAS_SOBOL_DIRECTION(dim, bit) (the Sobol baseline's direction numbers, oas::sobolDirections() on the host) or OAS_NO_SOBOL (this shader never gets a Sobol pattern) before including oas.glsl"
 #endif
+/// Sobol point x of a table-driven Sobol sampler, scrambled with dimension seed dimSeed as the
+/// pattern says (OAS_SOBOL_OWEN: per bit; OAS_SOBOL: hash-based), as the sample value. Shared
+/// by oas_baseline_dim and the CPU's bulk path (host/oas/baseline_columns.cpp).
+float oas_sobol_value(OasPattern pat, uint x, uint dimSeed)
+{
+    uint scrambled = OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN ? oas_owen_scramble24(x, dimSeed) : oas_owen_scramble_hash(x, dimSeed);
+    return float(scrambled >> 8u) * OAS_INV_2POW24;
+}
+
 #ifdef OAS_SOBOL_DIRECTION
 /// Sobol point `index` (< 2^24), dimension `dim` < OAS_SOBOL_BLOCK, as a 32-bit fraction.
 /// Direction numbers are data, not computable on the fly: a shader that wants the Sobol
@@ -299,10 +308,7 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
         uint shuffled = OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN ? oas_permute(index, pat.N, blockSeed ^ OAS_TAG_ROW)
                                                                 : oas_owen_scramble_hash(index, blockSeed ^ OAS_TAG_ROW);
         uint i = block == 0u ? index : shuffled;
-        uint x = oas_sobol(i, dim - block * OAS_SOBOL_BLOCK);
-        uint dimSeed = oas_hash2(blockSeed, dim);
-        uint scrambled = OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN ? oas_owen_scramble24(x, dimSeed) : oas_owen_scramble_hash(x, dimSeed);
-        return float(scrambled >> 8u) * OAS_INV_2POW24;
+        return oas_sobol_value(pat, oas_sobol(i, dim - block * OAS_SOBOL_BLOCK), oas_hash2(blockSeed, dim));
     }
 #endif
     if (OAS_CONSTRUCTION(pat) == OAS_RANDOM || sobol) return float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24;
