@@ -122,10 +122,12 @@ void main()
         }
         return;
     }
-    if (OAS_CONSTRUCTION(params.pattern) == OAS_RANDOM) {
-        // Independent values take runs of samples, as the OAs do: the pass and its seed once per
-        // pass, then one hash a value. One sample per invocation spent most of its time finding
-        // its pixel and pass (random ran at 0.6x the OAs' values per second on lavapipe).
+    if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {
+        // The other baselines take runs of samples, as the OAs do: the pass and its seed once per
+        // pass, then the value. One sample per invocation spent most of its time finding its
+        // pixel and pass (random ran at 0.6x the OAs' values per second on lavapipe). Lanes hold
+        // neighbouring runs of the same dimensions, so they read the same Sobol direction numbers
+        // and Halton bases.
         while (count != 0u) {
             uint pass = oas_div_n(params.pattern, index);
             uint passSeed = oas_pass_seed(seed, pass);
@@ -135,12 +137,6 @@ void main()
                     OAS_WRITE(outAt + c, oas_baseline_dim(params.pattern, passSeed, index - pass * params.pattern.N, firstDim + c));
             count -= inPass;
         }
-        return;
-    }
-    if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {  // other baselines: no per-column state to share
-        for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
-            for (uint c = 0u; c < groupDims; ++c)
-                OAS_WRITE(outAt + c, oas_sample(params.pattern, seed, index, firstDim + c));
         return;
     }
     // A run may cross the end of a pass (a multiple of N); the state is remade for each pass.

@@ -13,8 +13,8 @@ namespace oas {
 namespace {
 constexpr std::uint32_t kLocalSize = 64;  // local_size_x of oas_generate.comp
 constexpr std::uint32_t kGroupDims = 4;   // OAS_GROUP_DIMS of oas_generate.comp (OAs)
-// Baselines: one sample x 8 dims per invocation, so neighbouring lanes take the same dimensions
-// of neighbouring samples (the same Halton base and Sobol direction numbers in every lane).
+// Baselines: runs of samples x 8 dims per invocation, so neighbouring lanes take the same
+// dimensions of neighbouring runs (the same Halton base and Sobol direction numbers in every lane).
 constexpr std::uint32_t kBaselineGroupDims = 8;
 // The padded 2D baselines instead take the OAs' shape, runs of samples x one pair of dimensions:
 // their per-(pass, dimension) state (OasPairColumn: permutation keys, the grid's reciprocals) is
@@ -43,21 +43,16 @@ struct Layout {
     std::uint32_t samplesPerRun, groupsPerBlock, groups, runs;
 };
 
-/// Lavapipe (Mesa 22.3) silently ends an invocation's loops after 65535 iterations in all. The
-/// library's loops all unroll (tests/loop_free_test.cpp), so only the kernel's own loops count:
-/// a run of 128 samples x 4 dimensions is far below the cap for every construction and field.
-std::uint32_t samplesPerRun(const Pattern& p)
-{
-    // Halton and the Sobol samplers: see kBaselineGroupDims. Random takes runs (its pass seed once
-    // per run), 128 samples x 8 dimensions at most, far below the cap too.
-    if (p.construction > glsl::OAS_RANDOM && !isPadded2d(p)) return 1;
-    return 128;
-}
+/// Samples one invocation evaluates, for every construction. Lavapipe (Mesa 22.3) silently ends
+/// an invocation's loops after 65535 iterations in all. The library's loops all unroll
+/// (tests/loop_free_test.cpp), so only the kernel's own loops count: a run of 128 samples x 8
+/// dimensions (a baseline's group; an OA group has 4) is far below the cap.
+constexpr std::uint32_t kSamplesPerRun = 128;
 
 Layout layoutFor(const Pattern& p, const SampleRequest& r)
 {
     Layout l;
-    l.samplesPerRun = std::min(samplesPerRun(p), std::max(r.spp, 1u));
+    l.samplesPerRun = std::min(kSamplesPerRun, std::max(r.spp, 1u));
     l.runs = (r.spp + l.samplesPerRun - 1) / l.samplesPerRun;
     if (p.construction >= glsl::OAS_RANDOM) {
         l.groupsPerBlock = 0;

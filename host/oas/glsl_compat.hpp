@@ -38,6 +38,17 @@ inline int findMSB(uint v)
     return v == 0 ? -1 : 31 - std::countl_zero(v);
 }
 
+/// GLSL bitfieldReverse: bit b of the result is bit 31 - b of v (swap halves, then bytes, nibbles,
+/// pairs and bits).
+inline uint bitfieldReverse(uint v)
+{
+    v = ((v >> 1u) & 0x55555555u) | ((v & 0x55555555u) << 1u);
+    v = ((v >> 2u) & 0x33333333u) | ((v & 0x33333333u) << 2u);
+    v = ((v >> 4u) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4u);
+    v = ((v >> 8u) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8u);
+    return (v >> 16u) | (v << 16u);
+}
+
 /// GLSL min for uints.
 inline uint min(uint a, uint b)
 {

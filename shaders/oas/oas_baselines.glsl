@@ -7,15 +7,11 @@
 /// per-bit loops below, whatever N is.
 const uint OAS_INDEX_BITS = 24u;
 
-/// Bit-reversed index: the van der Corput sequence in base 2 (Sobol dimension 0).
-uint oas_reverse_bits(uint v)
-{
-    v = ((v >> 1u) & 0x55555555u) | ((v & 0x55555555u) << 1u);
-    v = ((v >> 2u) & 0x33333333u) | ((v & 0x33333333u) << 2u);
-    v = ((v >> 4u) & 0x0f0f0f0fu) | ((v & 0x0f0f0f0fu) << 4u);
-    v = ((v >> 8u) & 0x00ff00ffu) | ((v & 0x00ff00ffu) << 8u);
-    return (v >> 16u) | (v << 16u);
-}
+/// Bit-reversed index: the van der Corput sequence in base 2 (Sobol dimension 0). GLSL's
+/// bitfieldReverse: one instruction on GPUs and a few byte shuffles on lavapipe (LLVM's
+/// bitreverse), where the shift-and-mask form was 20 operations; the C++ twin's is that form
+/// (host/oas/glsl_compat.hpp), the same function.
+uint oas_reverse_bits(uint v) { return bitfieldReverse(v); }
 
 /// Sobol dimension 1 (primitive polynomial x + 1, direction numbers m_k = 1): with dimension 0 it
 /// forms the (0,2)-sequence in base 2. Direction numbers follow v_{k+1} = v_k ^ (v_k >> 1).
@@ -184,11 +180,16 @@ float oas_sobol_value(OasPattern pat, uint x, uint dimSeed)
 /// a time). Without it those patterns are unavailable in that shader and oas_sample returns
 /// independent random values for them. The samplers' indices are below N <= 2^24, so 24
 /// direction numbers are all an index can select (OAS_INDEX_BITS); 32 were read before.
+/// Every direction number is read and masked by its bit rather than read under a branch on the
+/// bit: unconditional reads of the same texel are one fetch to the shader compiler, so a buffer
+/// of four numbers a texel costs 6 fetches a value, where 24 reads under per-lane branches
+/// stayed 24 (lavapipe makes a fetch under a branch for all lanes anyway). That took the Sobol
+/// row of oas-bench on lavapipe from 58 to 125 M values/s (docs/BENCHMARKS.md).
 uint oas_sobol(uint index, uint dim)
 {
     uint x = 0u;
     OAS_UNROLL for (uint bit = 0u; bit < OAS_INDEX_BITS; ++bit)
-        if (((index >> bit) & 1u) != 0u) x ^= OAS_SOBOL_DIRECTION(dim, bit);
+        x ^= OAS_SOBOL_DIRECTION(dim, bit) & (0u - ((index >> bit) & 1u));
     return x;
 }
 #endif
