@@ -122,6 +122,25 @@ void main()
         }
         return;
     }
+    if (OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL || OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL_OWEN) {
+        // Runs of samples, one dimension at a time: its direction numbers and seeds once per
+        // (pass, dimension) (OasSobolColumn), where oas_sample fetches the numbers for every value.
+        while (count != 0u) {
+            uint pass = oas_div_n(params.pattern, index);
+            uint passSeed = oas_pass_seed(seed, pass);
+            uint first = index - pass * params.pattern.N;
+            uint inPass = min(count, params.pattern.N - first);
+            for (uint c = 0u; c < groupDims; ++c) {
+                OasSobolColumn column = oas_sobol_column(passSeed, firstDim + c);
+                for (uint k = 0u; k < inPass; ++k)
+                    OAS_WRITE(outAt + k * params.dims + c, oas_sobol_column_dim(params.pattern, column, first + k));
+            }
+            index += inPass;
+            outAt += inPass * params.dims;
+            count -= inPass;
+        }
+        return;
+    }
     if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {
         // The other baselines take runs of samples, as the OAs do: the pass and its seed once per
         // pass, then the value. One sample per invocation spent most of its time finding its

@@ -113,9 +113,10 @@ std::uint32_t fetchedDimsEnd(const DimensionPlan& plan, const Pattern& pattern);
 
 /// Dimensions per (pixel, sample) the GPU kernel reads from prefetched samples
 /// (pt_constants.glsl's PT_PREFETCH_DIMS): fetchedDimsEnd rounded up to whole uvec4 texels for
-/// the OAs and the padded 2D baselines, whose pairs' permutation keys the generation kernel makes
-/// once per pass; 0 (each sample's own oas_draw in the kernel) for the other baselines, which
-/// have no per-pass state to share: prefetched, Halton and the Sobol samplers rendered 0.8-0.9x as
+/// the OAs, the padded 2D baselines (their pairs' permutation keys) and the table-driven Sobol
+/// samplers (their direction numbers, OasSobolColumn), whose state the generation kernel makes
+/// once per pass; 0 (each sample's own oas_draw in the kernel) for random, Halton and
+/// sobol-burley, which have no per-pass state to share: prefetched, Halton rendered 0.8-0.9x as
 /// fast on lavapipe (docs/BENCHMARKS.md).
 std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern);
 

@@ -41,7 +41,8 @@ std::uint32_t fetchedTexelDims(const DimensionPlan& plan, const Pattern& pattern
 std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern)
 {
     const bool padded2d = glsl::oas_is_padded_2d(glsl::toGlsl(pattern));
-    if (pattern.construction >= glsl::OAS_RANDOM && !padded2d) return 0;  // no per-pass state to share
+    const bool tableSobol = pattern.construction == glsl::OAS_SOBOL || pattern.construction == glsl::OAS_SOBOL_OWEN;
+    if (pattern.construction >= glsl::OAS_RANDOM && !padded2d && !tableSobol) return 0;  // no per-pass state to share
     return fetchedTexelDims(plan, pattern);
 }
 

@@ -192,6 +192,48 @@ uint oas_sobol(uint index, uint dim)
         x ^= OAS_SOBOL_DIRECTION(dim, bit) & (0u - ((index >> bit) & 1u));
     return x;
 }
+
+/// The state of one dimension of a table-driven Sobol sampler (OAS_SOBOL, OAS_SOBOL_OWEN) that
+/// does not depend on the sample: its 24 direction numbers, seeds and index shuffle, made once per
+/// (pixel, pass, dimension) and reused for the pass's samples, as OasColumn is for the OAs. On
+/// lavapipe the direction numbers' fetches were most of a value: dropping them took the generation
+/// kernel's Sobol from 0.33 to 0.86 of the hash-only kernel's values/s (docs/BENCHMARKS.md).
+struct OasSobolColumn {
+    uint direction[OAS_INDEX_BITS];  ///< the dimension's direction numbers, bit 0 the most significant
+    uint block;                      ///< dim / OAS_SOBOL_BLOCK: blocks past the first shuffle the index
+    uint shuffleSeed;                ///< the block's index shuffle (OAS_TAG_ROW of the block seed)
+    uint dimSeed;                    ///< the value's scramble
+};
+
+/// OasSobolColumn of dimension `dim` for pass seed `seed`.
+OasSobolColumn oas_sobol_column(uint seed, uint dim)
+{
+    OasSobolColumn c;
+    c.block = dim / OAS_SOBOL_BLOCK;
+    uint blockSeed = oas_hash2(seed, c.block);
+    c.shuffleSeed = blockSeed ^ OAS_TAG_ROW;
+    c.dimSeed = oas_hash2(blockSeed, dim);
+    uint tableDim = dim - c.block * OAS_SOBOL_BLOCK;
+    OAS_UNROLL for (uint bit = 0u; bit < OAS_INDEX_BITS; ++bit) c.direction[bit] = OAS_SOBOL_DIRECTION(tableDim, bit);
+    return c;
+}
+
+/// Sample `index` (< N) of the Sobol dimension that `c` was made for.
+float oas_sobol_column_dim(OasPattern pat, OasSobolColumn c, uint index)
+{
+    // Blocks past the first shuffle the indices, so that dimension 1024 + k is not dimension
+    // k again. OAS_SOBOL_OWEN permutes [0, N) (oas_permute, its values since version 0.2);
+    // OAS_SOBOL scrambles the index's bits as Burley pads (a bijection of every aligned
+    // power-of-two block, so a block of 2^m indices stays a net): a few multiplies where
+    // oas_permute makes four rounds' keys, and lavapipe pays for the shuffle in block 0 too
+    // (it runs both sides of the select).
+    uint shuffled = OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN ? oas_permute(index, pat.N, c.shuffleSeed)
+                                                            : oas_owen_scramble_hash(index, c.shuffleSeed);
+    uint i = c.block == 0u ? index : shuffled;
+    uint x = 0u;
+    OAS_UNROLL for (uint bit = 0u; bit < OAS_INDEX_BITS; ++bit) x ^= c.direction[bit] & (0u - ((i >> bit) & 1u));
+    return oas_sobol_value(pat, x, c.dimSeed);
+}
 #endif
 
 /// The state of one dimension of a padded 2D baseline (jittered2d, cmj2d, zerotwo) that does not
@@ -297,20 +339,7 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
     if (OAS_CONSTRUCTION(pat) == OAS_SOBOL_BURLEY) return oas_sobol_burley_dim(seed, index, dim);
     bool sobol = OAS_CONSTRUCTION(pat) == OAS_SOBOL || OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN;
 #ifdef OAS_SOBOL_DIRECTION
-    if (sobol) {
-        uint block = dim / OAS_SOBOL_BLOCK;
-        uint blockSeed = oas_hash2(seed, block);
-        // Blocks past the first shuffle the indices, so that dimension 1024 + k is not dimension
-        // k again. OAS_SOBOL_OWEN permutes [0, N) (oas_permute, its values since version 0.2);
-        // OAS_SOBOL scrambles the index's bits as Burley pads (a bijection of every aligned
-        // power-of-two block, so a block of 2^m indices stays a net): a few multiplies where
-        // oas_permute makes four rounds' keys, and lavapipe pays for the shuffle in block 0 too
-        // (it runs both sides of the select).
-        uint shuffled = OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN ? oas_permute(index, pat.N, blockSeed ^ OAS_TAG_ROW)
-                                                                : oas_owen_scramble_hash(index, blockSeed ^ OAS_TAG_ROW);
-        uint i = block == 0u ? index : shuffled;
-        return oas_sobol_value(pat, oas_sobol(i, dim - block * OAS_SOBOL_BLOCK), oas_hash2(blockSeed, dim));
-    }
+    if (sobol) return oas_sobol_column_dim(pat, oas_sobol_column(seed, dim), index);
 #endif
     if (OAS_CONSTRUCTION(pat) == OAS_RANDOM || sobol) return float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24;
 
