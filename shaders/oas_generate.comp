@@ -122,18 +122,26 @@ void main()
         }
         return;
     }
-    if (OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL || OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL_OWEN) {
-        // Runs of samples, one dimension at a time: its direction numbers and seeds once per
-        // (pass, dimension) (OasSobolColumn), where oas_sample fetches the numbers for every value.
+    bool tableSobol = OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL || OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL_OWEN;
+    if (tableSobol || OAS_CONSTRUCTION(params.pattern) == OAS_HALTON) {
+        // Runs of samples, one dimension at a time: its state once per (pass, dimension)
+        // (OasSobolColumn: direction numbers and seeds; OasHaltonColumn: the base's constants and
+        // every digit's permutation), where oas_sample makes it again for every value.
         while (count != 0u) {
             uint pass = oas_div_n(params.pattern, index);
             uint passSeed = oas_pass_seed(seed, pass);
             uint first = index - pass * params.pattern.N;
             uint inPass = min(count, params.pattern.N - first);
             for (uint c = 0u; c < groupDims; ++c) {
-                OasSobolColumn column = oas_sobol_column(passSeed, firstDim + c);
-                for (uint k = 0u; k < inPass; ++k)
-                    OAS_WRITE(outAt + k * params.dims + c, oas_sobol_column_dim(params.pattern, column, first + k));
+                if (tableSobol) {
+                    OasSobolColumn column = oas_sobol_column(passSeed, firstDim + c);
+                    for (uint k = 0u; k < inPass; ++k)
+                        OAS_WRITE(outAt + k * params.dims + c, oas_sobol_column_dim(params.pattern, column, first + k));
+                } else {
+                    OasHaltonColumn column = oas_halton_column(params.pattern, passSeed, firstDim + c);
+                    for (uint k = 0u; k < inPass; ++k)
+                        OAS_WRITE(outAt + k * params.dims + c, oas_halton_column_dim(params.pattern, column, first + k));
+                }
             }
             index += inPass;
             outAt += inPass * params.dims;

@@ -549,9 +549,9 @@ TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
         for (std::size_t i = 0; i < expected.pixelCount(); ++i) total += render::meanValue(expected.pixel(i), 0);
         EXPECT_GT(total, 0.0) << name << " renders black: the comparison would prove nothing";
     }
-    // The padded 2D baselines and the table-driven Sobols are prefetched by default too (their
-    // pairs' keys, their direction numbers are per pass); the others draw inline (nothing to
-    // share), but any of them prefetched gives the inline sums, across a pass.
+    // The padded 2D baselines, the table-driven Sobols and Halton are prefetched by default too
+    // (their pairs' keys, direction numbers, digit permutations are per pass); the others draw
+    // inline (nothing to share), but any of them prefetched gives the inline sums, across a pass.
     auto s = loadTestScene("blue_spheres9d.json");
     s.width = 16;
     s.height = 9;
@@ -561,7 +561,7 @@ TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
         if (oas::isOrthogonalArray(sampler)) continue;
         const auto pattern = patternFor(s, plan, 16, sampler.c_str());
         const bool perPassState = sampler == "jittered2d" || sampler == "cmj2d" || sampler == "zerotwo" || sampler == "sobol" ||
-                                  sampler == "sobol-owen";
+                                  sampler == "sobol-owen" || sampler == "halton";
         ASSERT_EQ(render::prefetchDims(plan, pattern) != 0u, perPassState) << sampler;
         render::SampleBatch batch;
         batch.width = s.width;

@@ -109,6 +109,10 @@ void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) co
         const PairColumn column(pat, passSeed, dim, count);
         return fill(first, count, out, [&](std::uint32_t i) { return column.value(column.cell(i), i); });
     }
+    case glsl::OAS_HALTON: {  // the base's constants and digit permutations once per run
+        const glsl::OasHaltonColumn column = glsl::oas_halton_column(pat, passSeed, dim);
+        return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_halton_column_dim(pat, column, i); });
+    }
     case glsl::OAS_SOBOL:
     case glsl::OAS_SOBOL_OWEN:
         if (dim < glsl::OAS_SOBOL_BLOCK) {
@@ -130,7 +134,7 @@ void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) co
             return;
         }
         [[fallthrough]];
-    default:  // Halton and later Sobol blocks: the library's per-value code
+    default:  // later Sobol blocks: the library's per-value code
         return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_baseline_dim(pat, passSeed, i, dim); });
     }
 }

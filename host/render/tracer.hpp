@@ -113,11 +113,10 @@ std::uint32_t fetchedDimsEnd(const DimensionPlan& plan, const Pattern& pattern);
 
 /// Dimensions per (pixel, sample) the GPU kernel reads from prefetched samples
 /// (pt_constants.glsl's PT_PREFETCH_DIMS): fetchedDimsEnd rounded up to whole uvec4 texels for
-/// the OAs, the padded 2D baselines (their pairs' permutation keys) and the table-driven Sobol
-/// samplers (their direction numbers, OasSobolColumn), whose state the generation kernel makes
-/// once per pass; 0 (each sample's own oas_draw in the kernel) for random, Halton and
-/// sobol-burley, which have no per-pass state to share: prefetched, Halton rendered 0.8-0.9x as
-/// fast on lavapipe (docs/BENCHMARKS.md).
+/// the OAs, the padded 2D baselines (their pairs' permutation keys), the table-driven Sobol
+/// samplers (their direction numbers, OasSobolColumn) and Halton (its digit permutations,
+/// OasHaltonColumn), whose state the generation kernel makes once per pass; 0 (each sample's own
+/// oas_draw in the kernel) for random and sobol-burley, which have no per-pass state to share.
 std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern);
 
 /// The most prefetched dimensions per sample where GpuTracerOptions::Prefetch::WherePays decides.

@@ -41,8 +41,9 @@ std::uint32_t fetchedTexelDims(const DimensionPlan& plan, const Pattern& pattern
 std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern)
 {
     const bool padded2d = glsl::oas_is_padded_2d(glsl::toGlsl(pattern));
-    const bool tableSobol = pattern.construction == glsl::OAS_SOBOL || pattern.construction == glsl::OAS_SOBOL_OWEN;
-    if (pattern.construction >= glsl::OAS_RANDOM && !padded2d && !tableSobol) return 0;  // no per-pass state to share
+    const bool columnState = pattern.construction == glsl::OAS_SOBOL || pattern.construction == glsl::OAS_SOBOL_OWEN ||
+                             pattern.construction == glsl::OAS_HALTON;
+    if (pattern.construction >= glsl::OAS_RANDOM && !padded2d && !columnState) return 0;  // no per-pass state to share
     return fetchedTexelDims(plan, pattern);
 }
 

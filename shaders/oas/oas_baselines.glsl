@@ -333,6 +333,101 @@ float oas_pair_column_dim(OasPattern pat, OasPairColumn c, uint index)
     return oas_pair_cell_dim(pat, c, oas_pair_cell(c, index), index);
 }
 
+/// The state of one dimension of randomized Halton that does not depend on the sample: its base
+/// and the base's division constants, how many digits it makes, every digit's permutation and the
+/// index shuffle's seed, made once per (pixel, pass, dimension) and reused for the pass's
+/// samples, as OasColumn is for the OAs.
+///
+/// Digits of the index, least significant first, each go through their own random permutation
+/// (random-digit-permutation Halton); enough digits to tell all N indices apart, capped where
+/// base^digits would pass 2^24 (the exact fixed-point limit). The bases are prime, so the
+/// permutations are the affine maps d -> a d + b mod base (a != 0), the sharply 2-transitive
+/// family (see oas_levels_form_prime_field): the pair statistics, and so the variance, of
+/// uniformly random digit permutations, for one multiply and one remainder. At most
+/// OAS_INDEX_BITS digits (base 2 at N = 2^24): the first OAS_HALTON_ODD_BASE_DIGITS for every
+/// base (base 3 needs no more), the rest for base 2 only, whose digit permutations d -> a d + b
+/// mod 2 are d XOR b (a = 1): their nine b are nine bits of one hash (`flips`). The keys (a, b)
+/// are a 32-bit LCG stream seeded by the dimension, read through its high bits (mulhi), one step
+/// per key, advanced only for the digits made (until version 0.3 each was a hash of (dimension
+/// seed, digit), and those hashes were most of a value; until this column they were remade for
+/// every value).
+struct OasHaltonColumn {
+    uint base;
+    uint recipBase;    ///< oas_fastdiv constants of base (bases are below 2^8)
+    uint shiftBase;
+    uint digits;       ///< digits a value is made of: base^digits >= N, within 2^24
+    uint strata;       ///< base^digits
+    uint scale[OAS_HALTON_ODD_BASE_DIGITS];   ///< digit k's permutation: d -> scale d + offset mod base
+    uint offset[OAS_HALTON_ODD_BASE_DIGITS];
+    uint flips;        ///< base 2's digits 15 .. 23: bit (k - 15) flips digit k
+    uint block;        ///< dim / OAS_HALTON_BLOCK: blocks past the first shuffle the index
+    uint shuffleSeed;
+    uint jitterSeed;
+};
+
+/// OasHaltonColumn of dimension `dim` for pass seed `seed`.
+OasHaltonColumn oas_halton_column(OasPattern pat, uint seed, uint dim)
+{
+    OasHaltonColumn c;
+    c.block = dim / OAS_HALTON_BLOCK;
+    c.base = oas_halton_base(dim - c.block * OAS_HALTON_BLOCK);
+    uint blockSeed = oas_hash2(seed, c.block);
+    c.shuffleSeed = blockSeed ^ OAS_TAG_ROW;
+    uint dimSeed = oas_hash2(blockSeed, dim);
+    c.jitterSeed = dimSeed ^ OAS_TAG_JITTER;
+    c.shiftBase = uint(findMSB(c.base - 1u)) + 1u;
+    c.recipBase = oas_fastdiv_recip(c.base, c.shiftBase);
+    uint strataLimit = oas_fastdiv(OAS_ONE_FIXED, c.recipBase, c.shiftBase);
+    c.strata = 1u;
+    c.digits = 0u;
+    uint key = dimSeed;
+    OAS_UNROLL for (uint k = 0u; k < OAS_HALTON_ODD_BASE_DIGITS; ++k) {
+        c.scale[k] = 0u;
+        c.offset[k] = 0u;
+        if (c.strata < pat.N && c.strata <= strataLimit) {
+            key = key * 0x2c1b3c6du + 0x297a2d39u;
+            c.scale[k] = 1u + oas_mulhi(key, c.base - 1u);
+            key = key * 0x2c1b3c6du + 0x297a2d39u;
+            c.offset[k] = oas_mulhi(key, c.base);
+            c.strata *= c.base;
+            c.digits += 1u;
+        }
+    }
+    // Read only when all fifteen steps ran (then key is the same as if it had always advanced).
+    c.flips = oas_pcg(key);
+    OAS_UNROLL for (uint k = OAS_HALTON_ODD_BASE_DIGITS; k < OAS_INDEX_BITS; ++k) {
+        if (c.base == 2u && c.strata < pat.N) {  // strata <= 2^23 here, so within the limit
+            c.strata *= 2u;
+            c.digits += 1u;
+        }
+    }
+    return c;
+}
+
+/// Sample `index` (< N) of the Halton dimension that `c` was made for.
+float oas_halton_column_dim(OasPattern pat, OasHaltonColumn c, uint index)
+{
+    uint i = c.block == 0u ? index : oas_permute(index, pat.N, c.shuffleSeed);
+    uint m = 0u;
+    OAS_UNROLL for (uint k = 0u; k < OAS_HALTON_ODD_BASE_DIGITS; ++k) {
+        if (k < c.digits) {
+            uint next = oas_fastdiv(i, c.recipBase, c.shiftBase);
+            uint d = i - next * c.base;
+            i = next;
+            uint permuted = c.scale[k] * d + c.offset[k];  // < base^2
+            uint pd = permuted - oas_fastdiv(permuted, c.recipBase, c.shiftBase) * c.base;
+            m = m * c.base + pd;  // digit k lands at base^-(k+1): reversed order builds m
+        }
+    }
+    OAS_UNROLL for (uint k = OAS_HALTON_ODD_BASE_DIGITS; k < OAS_INDEX_BITS; ++k) {
+        if (k < c.digits) {  // base 2 only
+            m = m * 2u + ((i & 1u) ^ ((c.flips >> (k - OAS_HALTON_ODD_BASE_DIGITS)) & 1u));
+            i >>= 1u;
+        }
+    }
+    return oas_stratum_point(m, c.strata, oas_hash2(c.jitterSeed, index));
+}
+
 /// Baseline samplers. `index` < N; passes (index >= N) are handled by oas_sample.
 float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
 {
@@ -343,60 +438,7 @@ float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
 #endif
     if (OAS_CONSTRUCTION(pat) == OAS_RANDOM || sobol) return float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24;
 
-    if (OAS_CONSTRUCTION(pat) == OAS_HALTON) {
-        uint block = dim / OAS_HALTON_BLOCK;
-        uint base = oas_halton_base(dim - block * OAS_HALTON_BLOCK);
-        uint blockSeed = oas_hash2(seed, block);
-        uint i = block == 0u ? index : oas_permute(index, pat.N, blockSeed ^ OAS_TAG_ROW);
-        uint dimSeed = oas_hash2(blockSeed, dim);
-        // Digits of i, least significant first, each through its own random permutation
-        // (random-digit-permutation Halton); enough digits to tell all N indices apart, capped
-        // where base^digits would pass 2^24 (the exact fixed-point limit). The bases are prime, so
-        // the permutations are the affine maps d -> a d + b mod base (a != 0), the sharply
-        // 2-transitive family (see oas_levels_form_prime_field): the pair statistics, and so the
-        // variance, of uniformly random digit permutations, for one multiply and one remainder.
-        // At most OAS_INDEX_BITS digits (base 2 at N = 2^24), in fixed loops with the unused steps
-        // masked: the first OAS_HALTON_ODD_BASE_DIGITS for every base (base 3 needs no more), the rest
-        // for base 2 only, whose digit permutations d -> a d + b mod 2 are d XOR b (a = 1), which
-        // saves their multiplies and divisions (lavapipe pays for masked steps in full): their
-        // nine b are nine bits of one hash. Divisions by the base go through one reciprocal made
-        // here (bases are below 2^8). The digit permutations' keys are a 32-bit LCG stream seeded
-        // by the dimension, read through its high bits (mulhi), one step per key: until version
-        // 0.3 each was a hash of (dimension seed, digit), and those hashes were most of a value.
-        uint shiftBase = uint(findMSB(base - 1u)) + 1u;
-        uint recipBase = oas_fastdiv_recip(base, shiftBase);
-        uint strataLimit = oas_fastdiv(OAS_ONE_FIXED, recipBase, shiftBase);
-        uint strata = 1u;
-        uint m = 0u;
-        uint key = dimSeed;
-        // The keys advance inside the step: once a step is skipped so are all later ones (strata
-        // only grows), and the last nine digits' flips are read only when all fifteen steps ran,
-        // so the values are the same as advancing always, and a CPU skips the unused keys.
-        OAS_UNROLL for (uint digitIndex = 0u; digitIndex < OAS_HALTON_ODD_BASE_DIGITS; ++digitIndex) {
-            if (strata < pat.N && strata <= strataLimit) {
-                key = key * 0x2c1b3c6du + 0x297a2d39u;
-                uint scaleKey = key;
-                key = key * 0x2c1b3c6du + 0x297a2d39u;
-                uint next = oas_fastdiv(i, recipBase, shiftBase);
-                uint d = i - next * base;
-                i = next;
-                uint permuted = (1u + oas_mulhi(scaleKey, base - 1u)) * d + oas_mulhi(key, base);  // < base^2
-                uint pd = permuted - oas_fastdiv(permuted, recipBase, shiftBase) * base;
-                m = m * base + pd;  // digit k lands at base^-(k+1): reversed order builds m
-                strata *= base;
-            }
-        }
-        uint flips = oas_pcg(key);  // base 2's last nine digits: bit (digitIndex - 15) flips digitIndex
-        OAS_UNROLL for (uint digitIndex = OAS_HALTON_ODD_BASE_DIGITS; digitIndex < OAS_INDEX_BITS; ++digitIndex) {
-            if (base == 2u && strata < pat.N) {  // strata <= 2^23 here, so within the limit
-                uint pd = (i & 1u) ^ ((flips >> (digitIndex - OAS_HALTON_ODD_BASE_DIGITS)) & 1u);
-                i >>= 1u;
-                m = m * 2u + pd;
-                strata *= 2u;
-            }
-        }
-        return oas_stratum_point(m, strata, oas_hash2(dimSeed ^ OAS_TAG_JITTER, index));
-    }
+    if (OAS_CONSTRUCTION(pat) == OAS_HALTON) return oas_halton_column_dim(pat, oas_halton_column(pat, seed, dim), index);
 
     return oas_pair_column_dim(pat, oas_pair_column(pat, seed, dim), index);
 }
