@@ -49,6 +49,12 @@ inline uint bitfieldReverse(uint v)
     return (v >> 16u) | (v << 16u);
 }
 
+/// GLSL uintBitsToFloat: the float with these bits.
+inline float uintBitsToFloat(uint v)
+{
+    return std::bit_cast<float>(v);
+}
+
 /// GLSL min for uints.
 inline uint min(uint a, uint b)
 {

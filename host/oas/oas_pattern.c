@@ -54,6 +54,36 @@ static void oasp_say(char* why, size_t whyLen, const char* format, ...)
     va_end(args);
 }
 
+/* Appends "; nearest valid spp: a, b" to why: the largest count below spp and the smallest above
+ * that the construction makes at this strength (oas_valid_counts), either missing where there is
+ * none; nothing when there is neither. */
+static void oasp_say_nearest(uint32_t code, uint32_t strength, uint32_t spp, char* why, size_t whyLen)
+{
+    uint32_t above = 0, lo = 1, hi, mid;
+    size_t used;
+    int haveAbove = 0, haveBelow = 0;
+    if (why == NULL || whyLen == 0) return;
+    if (spp < OAS_MAX_SAMPLES) haveAbove = oas_valid_counts(code, strength, spp + 1, OAS_MAX_SAMPLES, &above, 1) > 0;
+    if (spp > 1 && oas_valid_counts(code, strength, 1, spp - 1, NULL, 0) > 0) {
+        /* The largest lo whose window [lo, spp - 1] still holds a count: that count. */
+        hi = spp - 1;
+        while (lo < hi) {
+            mid = lo + (hi - lo + 1) / 2;
+            if (oas_valid_counts(code, strength, mid, spp - 1, NULL, 0) > 0)
+                lo = mid;
+            else
+                hi = mid - 1;
+        }
+        haveBelow = 1;
+    }
+    if (!haveAbove && !haveBelow) return;
+    used = strlen(why);
+    if (haveAbove && haveBelow)
+        snprintf(why + used, whyLen - used, "; nearest valid spp: %u, %u", lo, above);
+    else
+        snprintf(why + used, whyLen - used, "; nearest valid spp: %u", haveBelow ? lo : above);
+}
+
 int oas_prime_power(uint32_t q, uint32_t* p, uint32_t* k)
 {
     uint32_t smallest = 2, v, count = 0;
@@ -383,7 +413,8 @@ int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uin
         return OAS_PATTERN_BAD_ARGUMENT;
     }
     if (oas_construction_name(code) == NULL) {
-        oasp_say(why, whyLen, "construction %u is unknown: valid 1 .. 5 (orthogonal arrays), 16 .. 21 (baselines)", code);
+        oasp_say(why, whyLen, "construction %u is unknown: valid %u .. %u (orthogonal arrays), %u .. %u (baselines)", code,
+                 (uint32_t)OAS_BOSE, (uint32_t)OAS_CMJND, (uint32_t)OAS_RANDOM, (uint32_t)OAS_SOBOL_BURLEY);
         return OAS_PATTERN_BAD_ARGUMENT;
     }
     if (spp < 1 || spp > OAS_MAX_SAMPLES) {
@@ -410,6 +441,7 @@ int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uin
     pat.strength = strength;
     pat.offset = isOa ? offset : 0;
     status = oasp_fields(&pat, code, spp, strength, why, whyLen);
+    if (status == OAS_PATTERN_NOT_EXACT) oasp_say_nearest(code, strength, spp, why, whyLen);
     if (status != OAS_PATTERN_OK) return status;
     /* The constants every shader divides by. */
     if (isOa) pat.aux2 = pat.N / pat.s;
@@ -529,4 +561,23 @@ void oas_sobol_directions(uint32_t out[OAS_SOBOL_BLOCK_DIMS * 32])
         for (b = 0; b < 32; ++b) out[dim * 32 + b] = v[b + 1];
         entry += 2 + s;
     }
+}
+
+/* ---- Specialization ------------------------------------------------------------------------ */
+
+void oas_specialization(const OasPattern* pattern, OasSpecialization* out)
+{
+    out->construction = pattern->construction;
+    out->offset = pattern->offset;
+    out->fieldKind = pattern->fieldK <= 1 ? 0u : (pattern->fieldP == 2 ? 1u : 2u);
+    out->fieldDegree = pattern->fieldK <= 1 ? 1u : pattern->fieldK;
+    out->smallN = pattern->N <= 65536u ? 1u : 0u;
+}
+
+int oas_specialization_matches(const OasPattern* pattern, const OasSpecialization* spec)
+{
+    OasSpecialization own;
+    oas_specialization(pattern, &own);
+    return own.construction == spec->construction && own.offset == spec->offset && own.fieldKind == spec->fieldKind &&
+           own.fieldDegree == spec->fieldDegree && (spec->smallN == 0 || own.smallN == 1);
 }

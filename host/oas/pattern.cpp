@@ -252,9 +252,10 @@ Pattern makePattern(const PatternRequest& request)
     if (pat.N != 0) return pat;
     const auto near = nearestCounts(request.sampler, t, request.dims, request.spp);
     if (request.roundUp && !near.empty() && near.back() > request.spp) return exactPattern(code, near.back(), t, offset, why);
+    // The C builder's message names the nearest valid counts already (the same oas_valid_counts).
     throw InvalidArgument("sampler '" + request.sampler + "' (strength " + std::to_string(t) + ") cannot make exactly spp " +
-                          std::to_string(request.spp) + ": " + why + "; nearest valid spp: " + countList(near) +
-                          (near.empty() ? "" : " (or allow rounding up)"));
+                          std::to_string(request.spp) + ": " + why +
+                          (near.empty() ? "; nearest valid spp: none" : " (or allow rounding up)"));
 }
 
 Choice chooseOrthogonalArray(const PatternRequest& request)

@@ -61,30 +61,30 @@ std::string samplerDescription(const std::string& name);
 /// True for the orthogonal-array constructions.
 bool isOrthogonalArray(const std::string& name);
 
+/// The OAS_STATIC_* values a shader specialized for the pattern is compiled with (the C API's
+/// oas_specialization, the one definition).
+inline OasSpecialization specialization(const Pattern& p)
+{
+    OasSpecialization s;
+    oas_specialization(&p, &s);
+    return s;
+}
 /// The pattern's field kind for OAS_STATIC_FIELD_KIND specialization: 0 prime (or no field),
 /// 1 GF(2^k) with k > 1, 2 odd extension field (OAS_FIELD_* in shaders/oas/oas_gf.glsl).
-inline std::uint32_t fieldKind(const Pattern& p)
-{
-    return p.fieldK <= 1 ? 0u : (p.fieldP == 2 ? 1u : 2u);
-}
+inline std::uint32_t fieldKind(const Pattern& p) { return specialization(p).fieldKind; }
 /// The pattern's field degree for OAS_STATIC_FIELD_DEGREE specialization: k of GF(p^k), 1 when
 /// the pattern has no field (its field loops are never reached).
-inline std::uint32_t fieldDegree(const Pattern& p)
-{
-    return p.fieldK <= 1 ? 1u : p.fieldK;
-}
+inline std::uint32_t fieldDegree(const Pattern& p) { return specialization(p).fieldDegree; }
 /// OAS_STATIC_SMALL_N for the pattern: 1 when N <= 2^16, so that every stratum count the library
 /// divides by fits the stratum point's one-division path (shaders/oas/oas_strata.glsl).
-inline std::uint32_t smallN(const Pattern& p)
-{
-    return p.N <= 65536u ? 1u : 0u;
-}
+inline std::uint32_t smallN(const Pattern& p) { return specialization(p).smallN; }
 /// What a GPU pipeline is specialized on (construction, offset, field kind, field degree, small
 /// N): two patterns with the same key run on the same pipeline, the rest of the pattern being
 /// push constants.
 inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t> specializationKey(const Pattern& p)
 {
-    return {p.construction, p.offset, fieldKind(p), fieldDegree(p), smallN(p)};
+    const OasSpecialization s = specialization(p);
+    return {s.construction, s.offset, s.fieldKind, s.fieldDegree, s.smallN};
 }
 
 /// Sobol direction numbers, OAS_SOBOL_BLOCK_DIMS (1024) dimensions x 32 bits, [dim * 32 + bit], bit 0

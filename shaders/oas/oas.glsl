@@ -42,7 +42,10 @@
 //   uint  oas_pass_seed(uint pixelSeed, uint pass)               seed of a pass of N samples
 //   float oas_sample(OasPattern p, uint pixelSeed, uint index, uint dim)
 //         Dimension `dim` of sample `index` of the pixel: a pure function, fixed work, in [0, 1)
-//         (never 1.0, never NaN), exactly inside the strata the construction promises.
+//         (never 1.0, never NaN, unless the shader's specialization does not fit p: see
+//         ADVICE), exactly inside the strata the construction promises.
+//   bool  oas_specialization_matches(OasPattern p)
+//         false when the shader's OAS_STATIC_* do not fit p: then every value above is NaN.
 //   const uint OAS_DRAW_MAX = 8u;   struct OasDraw { float u[OAS_DRAW_MAX]; };
 //   OasDraw oas_draw(OasPattern p, uint pixelSeed, uint index, uint firstDim, uint dimCount)
 //         Dimensions [firstDim, firstDim + dimCount) of sample `index` at once (dimCount <=
@@ -103,7 +106,9 @@
 //     _FIELD_DEGREE / _SMALL_N, e.g. from specialization constants, see oas_pattern.glsl) for
 //     speed: lavapipe runs both sides of every branch, so an unspecialised shader pays for every
 //     construction's code, for field loops as long as the largest field's, and for the stratum
-//     point's long division. Correctness does not depend on it.
+//     point's long division. oas_specialization (oas_pattern.h) fills the five values for a
+//     pattern. A specialized shader handed a pattern of another kind returns NaN in every value,
+//     never wrong numbers (oas_specialized_value); oas_specialization_matches(p) says which.
 //   - Fixed work. Each loop's trip count is the largest case the numeric contract allows: 12 bits
 //     of a GF(2^k) element, 5 digits of an odd extension field's element, t <= 8 Bush digits, 12
 //     exponent bits of an inverse, 5 exponent bits of CMJND's digit place, 24 bits of a (0,2)

@@ -168,7 +168,7 @@ const uint OAS_SOBOL_BLOCK = 1024u;
 float oas_sobol_value(OasPattern pat, uint x, uint dimSeed)
 {
     uint scrambled = OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN ? oas_owen_scramble24(x, dimSeed) : oas_owen_scramble_hash(x, dimSeed);
-    return float(scrambled >> 8u) * OAS_INV_2POW24;
+    return oas_specialized_value(pat, float(scrambled >> 8u) * OAS_INV_2POW24);
 }
 
 #ifdef OAS_SOBOL_DIRECTION
@@ -305,7 +305,7 @@ float oas_pair_cell_dim_across(OasPattern pat, OasPairColumn c, uint i, uint ind
     uint jitter = oas_hash3(c.pairSeed ^ OAS_TAG_JITTER, c.axis, index);
     if (OAS_CONSTRUCTION(pat) == OAS_ZERO_TWO) {
         uint x = c.axis == 0u ? oas_reverse_bits(i) : oas_sobol_dim1(i);
-        return float(oas_owen_scramble_hash(x, c.scrambleSeed) >> 8u) * OAS_INV_2POW24;
+        return oas_specialized_value(pat, float(oas_owen_scramble_hash(x, c.scrambleSeed) >> 8u) * OAS_INV_2POW24);
     }
     uint nx = pat.aux;
     uint ny = pat.aux2;
@@ -316,7 +316,7 @@ float oas_pair_cell_dim_across(OasPattern pat, OasPairColumn c, uint i, uint ind
     // both 1D projections N-strata Latin hypercubes.
     uint stratum = c.axis == 0u ? cx : cy;
     if (OAS_CONSTRUCTION(pat) == OAS_CMJ_2D) stratum = c.axis == 0u ? cx * ny + acrossImage : cy * nx + acrossImage;
-    return oas_stratum_point_fast(stratum, c.strata, c.recipStrata, c.shiftStrata, jitter);
+    return oas_specialized_value(pat, oas_stratum_point_fast(stratum, c.strata, c.recipStrata, c.shiftStrata, jitter));
 }
 
 /// Sample `index` (< N), in cell i = oas_pair_cell(c, index), of the padded 2D baseline
@@ -425,18 +425,18 @@ float oas_halton_column_dim(OasPattern pat, OasHaltonColumn c, uint index)
             i >>= 1u;
         }
     }
-    return oas_stratum_point(m, c.strata, oas_hash2(c.jitterSeed, index));
+    return oas_specialized_value(pat, oas_stratum_point(m, c.strata, oas_hash2(c.jitterSeed, index)));
 }
 
 /// Baseline samplers. `index` < N; passes (index >= N) are handled by oas_sample.
 float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
 {
-    if (OAS_CONSTRUCTION(pat) == OAS_SOBOL_BURLEY) return oas_sobol_burley_dim(seed, index, dim);
+    if (OAS_CONSTRUCTION(pat) == OAS_SOBOL_BURLEY) return oas_specialized_value(pat, oas_sobol_burley_dim(seed, index, dim));
     bool sobol = OAS_CONSTRUCTION(pat) == OAS_SOBOL || OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN;
 #ifdef OAS_SOBOL_DIRECTION
     if (sobol) return oas_sobol_column_dim(pat, oas_sobol_column(seed, dim), index);
 #endif
-    if (OAS_CONSTRUCTION(pat) == OAS_RANDOM || sobol) return float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24;
+    if (OAS_CONSTRUCTION(pat) == OAS_RANDOM || sobol) return oas_specialized_value(pat, float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24);
 
     if (OAS_CONSTRUCTION(pat) == OAS_HALTON) return oas_halton_column_dim(pat, oas_halton_column(pat, seed, dim), index);
 

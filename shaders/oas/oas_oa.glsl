@@ -346,17 +346,18 @@ float oas_column_dim_at(OasPattern pat, OasColumn c, OasRow r, uint level, uint 
 {
     uint offset = OAS_OFFSET(pat);
     uint shiftS = pat.recipShifts & 0xffu;
-    if (offset == OAS_OFFSET_CENTERED) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, 0x80000000u);
+    if (offset == OAS_OFFSET_CENTERED)
+        return oas_specialized_value(pat, oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, 0x80000000u));
     uint jitter = oas_hash2(c.jitterSeed, r.index);
-    if (offset == OAS_OFFSET_J) return oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, jitter);
+    if (offset == OAS_OFFSET_J) return oas_specialized_value(pat, oas_stratum_point_fast(stratum, pat.s, pat.recipS, shiftS, jitter));
     uint subCount = pat.aux2;  // N / s
     uint substratum = cmjSubstratum;
     if (offset == OAS_OFFSET_MJ) {
         OasPermutation sub = oas_sub_permutation(pat, oas_hash2(c.seed ^ OAS_TAG_SUB, level));
         substratum = oas_sub_permute(pat, sub, oas_oa_sublevel(pat, r.row, c.col));
     }
-    return oas_stratum_point_fast(stratum * subCount + substratum, pat.N, pat.recipN, (pat.recipShifts >> 16u) & 0xffu,
-                                  jitter);
+    return oas_specialized_value(
+        pat, oas_stratum_point_fast(stratum * subCount + substratum, pat.N, pat.recipN, (pat.recipShifts >> 16u) & 0xffu, jitter));
 }
 
 /// The value of column c for the sample r, in [0, 1): dimension block * blockDims + c.col.

@@ -52,8 +52,9 @@ struct OasPattern {
 // A shader that evaluates one kind of pattern can fix these at compile time (for instance with
 // specialization constants) by defining OAS_STATIC_CONSTRUCTION, OAS_STATIC_OFFSET,
 // OAS_STATIC_FIELD_KIND, OAS_STATIC_FIELD_DEGREE (fieldK, or 1 where the pattern has no field) and
-// OAS_STATIC_SMALL_N (1 when N <= 65536, else 0) before including oas.glsl. They must equal the
-// pattern's own values.
+// OAS_STATIC_SMALL_N (1 when N <= 65536, else 0) before including oas.glsl (oas_specialization in
+// oas_pattern.h fills them). A pattern whose own values differ gets NaN for every value
+// (oas_specialized_value below), not another kind's code run on its words.
 // Software rasterisers such as lavapipe run both sides of every branch, so folding the branches
 // of the constructions a shader does not use is what makes it fast there.
 #ifdef OAS_STATIC_CONSTRUCTION
@@ -66,6 +67,43 @@ struct OasPattern {
 #else
 #define OAS_OFFSET(pat) ((pat).offset)
 #endif
+
+/// Whether `pat` is a pattern this shader's specialization was made for: every OAS_STATIC_* the
+/// shader defines equals the pattern's own value (oas_specialization in oas_pattern.h fills them;
+/// a shader with OAS_STATIC_SMALL_N = 0 takes any N, its stratum points divide the long way).
+/// Always true in a shader without OAS_STATIC_*. Lanes that share a pattern agree, so a shader
+/// may branch on it (to paint an error colour, say).
+bool oas_specialization_matches(OasPattern pat)
+{
+    bool b = true;  // short names only: an includer's macro named like a local breaks the include (oas.glsl)
+#ifdef OAS_STATIC_CONSTRUCTION
+    b = b && pat.construction == OAS_STATIC_CONSTRUCTION;
+#endif
+#ifdef OAS_STATIC_OFFSET
+    b = b && pat.offset == OAS_STATIC_OFFSET;
+#endif
+#ifdef OAS_STATIC_FIELD_KIND  // OAS_FIELD_PRIME (k <= 1: also no field), _BINARY, _ODD_EXTENSION
+    b = b && (pat.fieldK <= 1u ? 0u : (pat.fieldP == 2u ? 1u : 2u)) == OAS_STATIC_FIELD_KIND;
+#endif
+#ifdef OAS_STATIC_FIELD_DEGREE
+    b = b && (pat.fieldK <= 1u ? 1u : pat.fieldK) == OAS_STATIC_FIELD_DEGREE;
+#endif
+#ifdef OAS_STATIC_SMALL_N
+    b = b && (OAS_STATIC_SMALL_N == 0u || pat.N <= 65536u);
+#endif
+    return b;
+}
+
+/// A sample value as the library returns it: v where the pattern matches the shader's
+/// specialization, NaN where it does not. A specialized shader compiles only its pattern kind's
+/// code, so it cannot make another kind's values; NaN, where the contract otherwise promises
+/// [0, 1), is what an image or a host check cannot mistake for samples (a plausible image with
+/// wrong values was what a mismatch gave before version 0.3). Without OAS_STATIC_* this is
+/// v, and the comparison folds away; with them it is a few comparisons of uniform words.
+float oas_specialized_value(OasPattern pat, float v)
+{
+    return oas_specialization_matches(pat) ? v : uintBitsToFloat(0x7fc00000u);
+}
 
 /// floor(x / s), floor(x / N) for the pattern's s and N.
 uint oas_div_s(OasPattern pat, uint x) { return oas_fastdiv(x, pat.recipS, pat.recipShifts & 0xffu); }

@@ -95,6 +95,14 @@ int main(void)
     expectRejected(OAS_ADDELMAN_KEMPTHORNE, 32, 0, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "odd prime power");
     expectRejected(OAS_ADDELMAN_KEMPTHORNE, 19, 0, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "2q^2");
     expectRejected(OAS_CMJND, 1, 1, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "s >= 2");
+    expectRejected(OAS_SOBOL_BURLEY + 1, 49, 0, OAS_OFFSET_CMJ, OAS_PATTERN_BAD_ARGUMENT, "16 .. 23 (baselines)");
+    /* Refusals name the nearest counts the construction makes (7^2, 8^2; 2*3^2, 2*5^2; 3^3 .. 4^3 with
+     * q >= t = 3 from 3; s^1 from s = 2), as the C++ API does. */
+    expectRejected(OAS_BOSE, 63, 0, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "63 is not a square q^2; nearest valid spp: 49, 64");
+    expectRejected(OAS_BOSE, 50, 0, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "nearest valid spp: 49, 64");
+    expectRejected(OAS_ADDELMAN_KEMPTHORNE, 19, 0, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "nearest valid spp: 18, 50");
+    expectRejected(OAS_BUSH, 28, 3, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "nearest valid spp: 27, 64");
+    expectRejected(OAS_CMJND, 1, 1, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "nearest valid spp: 2");
     check(oas_make_pattern(OAS_BOSE, 49, 0, 0, NULL, NULL, 0) == OAS_PATTERN_BAD_ARGUMENT, "NULL out", 0);
     check(oas_construction_from_name(NULL, NULL) != 0 && oas_construction_from_name("Bose", NULL) != 0,
           "unknown names are rejected", 0);

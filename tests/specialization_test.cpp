@@ -1,0 +1,152 @@
+// A shader specialized on one pattern kind and handed another is never silently wrong. An
+// embedder's shader specialized for Bose 64 and given Bose 49 rendered a plausible image from wrong
+// values (391 of 392 values differed from oas::sample; random given to a Bose pipeline: all): the
+// specialized code folds away every other kind's branches. Now such a pattern gives NaN in every
+// value (oas_specialized_value), and the C API says beforehand whether a pattern fits a
+// specialization (oas_specialization_matches). For every construction, field kind, offset, large N
+// and baseline, this specializes tests/shaders/specialized_consumer.comp on it and hands it every
+// pattern of the list: values equal to the CPU twin's bit for bit where the C API says they
+// match, all NaN where it says they do not.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "gpu_test_support.hpp"
+#include "oas/oas_pattern.h"
+#include "oas/pattern.hpp"
+#include "specialized_consumer_spv.h"
+
+namespace {
+
+struct Push {
+    oas::Pattern pattern;
+    std::uint32_t spp, dims, seed;
+};
+
+constexpr std::uint32_t kDims = 6;
+constexpr std::uint32_t kMaxSamplesChecked = 64;
+constexpr std::uint32_t kPixelSeed = 0x2545f491u;
+
+oas::Pattern make(const char* sampler, std::uint32_t spp, const char* offset = "cmj", std::uint32_t strength = 0)
+{
+    oas::PatternRequest r;
+    r.sampler = sampler;
+    r.spp = spp;
+    r.offset = offset;
+    r.strength = strength;
+    r.dims = kDims;
+    return oas::makePattern(r);
+}
+
+/// One pattern per construction x field kind (prime, GF(2^k), GF(p^k) odd), every offset, an N
+/// past 2^16 (OAS_STATIC_SMALL_N = 0) and every baseline.
+std::vector<std::pair<std::string, oas::Pattern>> patterns()
+{
+    std::vector<std::pair<std::string, oas::Pattern>> list = {
+        {"bose 49 cmj (prime)", make("bose", 49)},
+        {"bose 64 cmj (GF(2^3))", make("bose", 64)},
+        {"bose 81 mj (GF(3^2))", make("bose", 81, "mj")},
+        {"bose 121 j", make("bose", 121, "j")},
+        {"bose 49 centered", make("bose", 49, "centered")},
+        {"bose 66049 cmj (N > 2^16)", make("bose", 66049)},
+        {"bush 125 t=3 (prime)", make("bush", 125, "cmj", 3)},
+        {"bush 512 t=3 (GF(2^3))", make("bush", 512, "cmj", 3)},
+        {"bose-bush 32 (GF(2^2))", make("bose-bush", 32)},
+        {"addelman-kempthorne 18 (prime)", make("addelman-kempthorne", 18)},
+        {"addelman-kempthorne 162 (GF(3^2))", make("addelman-kempthorne", 162)},
+        {"cmjnd 27 d=3", make("cmjnd", 27, "cmj", 3)},
+    };
+    for (const auto& name : oas::samplerNames())
+        if (!oas::isOrthogonalArray(name)) list.push_back({name + " 16", make(name.c_str(), 16)});
+    return list;
+}
+
+class Specialization : public oas::test::GpuTest {};
+
+TEST_F(Specialization, AMismatchedPatternGivesNaNNeverWrongValues)
+{
+    oas::vk::Context& ctx = context();
+    const auto list = patterns();
+    const auto& table = oas::sobolDirections();
+    oas::vk::Buffer directions(ctx, table.size() * sizeof(std::uint32_t));
+    std::memcpy(directions.data(), table.data(), table.size() * sizeof(std::uint32_t));
+    oas::vk::Buffer values(ctx, std::size_t(kMaxSamplesChecked) * 2 * kDims * sizeof(float));
+    std::size_t matched = 0, refused = 0;
+    for (const auto& [specName, specPattern] : list) {
+        OasSpecialization spec;
+        oas_specialization(&specPattern, &spec);
+        const oas::vk::ComputePipeline::SpecConstants constants = {
+            {0, spec.construction}, {1, spec.offset}, {2, spec.fieldKind}, {3, spec.fieldDegree}, {4, spec.smallN}};
+        oas::vk::ComputePipeline pipe(ctx, specialized_consumer_spv, sizeof(specialized_consumer_spv), 2, sizeof(Push), constants);
+        for (const auto& [name, pattern] : list) {
+            SCOPED_TRACE("shader specialized for " + specName + ", given " + name);
+            const bool matches = oas_specialization_matches(&pattern, &spec) != 0;
+            Push push{pattern, std::min(pattern.N, kMaxSamplesChecked), kDims, kPixelSeed};
+            std::memset(values.data(), 0, values.size());
+            oas::vk::Buffer* buffers[] = {&values, &directions};
+            ctx.dispatch(pipe, buffers, &push, sizeof(push), (push.spp + 7) / 8);
+            const auto* got = static_cast<const float*>(values.data());
+            std::size_t wrong = 0;
+            for (std::uint32_t i = 0; i < push.spp; ++i)
+                for (std::uint32_t way = 0; way < 2; ++way)
+                    for (std::uint32_t d = 0; d < kDims; ++d) {
+                        const float v = got[(i * 2 + way) * kDims + d];
+                        if (matches) {
+                            const float expected = oas::sample(pattern, kPixelSeed, i, d);
+                            wrong += std::memcmp(&v, &expected, sizeof v) != 0;
+                        } else {
+                            wrong += !std::isnan(v);
+                        }
+                    }
+            EXPECT_EQ(wrong, 0u) << (matches ? "values differing from oas::sample" : "values that are not NaN");
+            (matches ? matched : refused) += 1;
+        }
+    }
+    // Each pattern matches its own specialization, and the list holds both verdicts: a large-N
+    // specialization (smallN 0) takes the small Bose patterns of its kind too.
+    EXPECT_GE(matched, list.size() + 1);
+    EXPECT_GT(refused, list.size());
+}
+
+TEST(SpecializationC, FieldKindDegreeAndSizeFollowTheConstruction)
+{
+    // From the constructions' mathematics: Bose q^2 works over GF(q), Bush q^t over GF(q),
+    // Bose-Bush 2q^2 (q = 2^k) over GF(2q) (Bose and Bush 1952: its levels are GF(2q)'s elements
+    // folded in pairs), Addelman-Kempthorne 2q^2 over GF(q), q odd; CMJND and the baselines have
+    // no field (kind 0, degree 1).
+    struct Expected {
+        const char* sampler;
+        std::uint32_t spp, strength, kind, degree, smallN;
+    };
+    const Expected cases[] = {
+        {"bose", 49, 0, 0, 1, 1},      {"bose", 64, 0, 1, 3, 1},  {"bose", 81, 0, 2, 2, 1},
+        {"bose", 66049, 0, 0, 1, 0},   {"bush", 512, 3, 1, 3, 1}, {"bose-bush", 32, 0, 1, 3, 1},
+        {"addelman-kempthorne", 162, 0, 2, 2, 1}, {"cmjnd", 27, 3, 0, 1, 1}, {"halton", 16, 0, 0, 1, 1},
+        {"sobol", 100000, 0, 0, 1, 0},
+    };
+    for (const auto& c : cases) {
+        const oas::Pattern pattern = make(c.sampler, c.spp, "mj", c.strength);
+        OasSpecialization s;
+        oas_specialization(&pattern, &s);
+        SCOPED_TRACE(std::string(c.sampler) + " " + std::to_string(c.spp));
+        EXPECT_EQ(s.construction, pattern.construction);
+        EXPECT_EQ(s.offset, pattern.offset);
+        EXPECT_EQ(s.fieldKind, c.kind);
+        EXPECT_EQ(s.fieldDegree, c.degree);
+        EXPECT_EQ(s.smallN, c.smallN);
+        EXPECT_TRUE(oas_specialization_matches(&pattern, &s));
+        OasSpecialization other = s;
+        other.offset ^= 1u;
+        EXPECT_FALSE(oas_specialization_matches(&pattern, &other));
+        other = s;
+        other.smallN = 0;  // the long division serves every N
+        EXPECT_TRUE(oas_specialization_matches(&pattern, &other));
+    }
+    EXPECT_EQ(sizeof(OasSpecialization), 5 * sizeof(std::uint32_t));  // VkSpecializationMapEntry offsets
+}
+
+}  // namespace
