@@ -1,12 +1,17 @@
 # install() rules and the oas CMake package: find_package(oas) then gives oas::glsl,
-# oas::pattern_c and oas::pattern, plus OAS_GLSL_INCLUDE_DIR and OAS_SINGLE_GLSL.
+# oas::pattern_c and oas::pattern (not with -DOAS_BUILD_CPP=OFF), plus OAS_GLSL_INCLUDE_DIR and
+# OAS_SINGLE_GLSL.
 # Headers, the GLSL library and the single-file include all land in <prefix>/include/oas/, so one
 # include directory serves #include "oas/pattern.hpp" and #include "oas/oas.glsl" alike.
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 
 set(OAS_CMAKE_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/oas)
-install(TARGETS oas_glsl oas_pattern_c oas_pattern EXPORT oasTargets
+set(installed_targets oas_glsl oas_pattern_c)
+if(OAS_BUILD_CPP)
+  list(APPEND installed_targets oas_pattern)
+endif()
+install(TARGETS ${installed_targets} EXPORT oasTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
