@@ -296,3 +296,37 @@ TEST(PatternCounts, CppValidCountsAreTheCRules)
 }
 
 }  // namespace
+
+TEST(PatternLayout, PairDimensionIsTheFirstEvenColumnPairOfABlock)
+{
+    // The contract of oas_pair_dimension (oas_pattern.h), checked from its statement for every
+    // sampler at block sizes odd and even: d >= from, (d, d + 1) in one block, d at an even column
+    // of it, and no smaller such d; random (one-dimension blocks) returns from. The GLSL twin
+    // gives the same for every from.
+    std::size_t oddBlocks = 0;
+    for (const auto& name : oas::samplerNames()) {
+        for (std::uint32_t spp : {16u, 32u, 49u, 64u, 81u, 98u, 128u, 162u}) {
+            std::uint32_t code = 0;
+            ASSERT_EQ(oas_construction_from_name(name.c_str(), &code), 0) << name;
+            OasPattern built;
+            char reason[256];
+            if (oas_make_pattern(code, spp, name == "cmjnd" ? 2 : 0, OAS_OFFSET_CMJ, &built, reason, sizeof reason) != 0) continue;
+            const std::uint32_t blockDims = built.blockDims;
+            oddBlocks += blockDims % 2;
+            const std::uint32_t span = std::min<std::uint32_t>(4 * blockDims + 4, 5000);
+            for (std::uint32_t from = 0; from < span; ++from) {
+                const std::uint32_t d = oas_pair_dimension(&built, from);
+                ASSERT_EQ(d, oas::glsl::oas_pair_dimension(oas::glsl::toGlsl(oas::Pattern(built)), from)) << name << " " << spp;
+                if (blockDims < 2) {
+                    ASSERT_EQ(d, from) << name;
+                    continue;
+                }
+                auto isPair = [&](std::uint32_t x) { return x / blockDims == (x + 1) / blockDims && (x % blockDims) % 2 == 0; };
+                ASSERT_GE(d, from) << name << " " << spp;
+                ASSERT_TRUE(isPair(d)) << name << " " << spp << " from " << from << " gave " << d;
+                for (std::uint32_t x = from; x < d; ++x) ASSERT_FALSE(isPair(x)) << name << " " << spp << ": " << x << " < " << d;
+            }
+        }
+    }
+    EXPECT_GT(oddBlocks, 0u) << "no odd block size covered (Bose-Bush and Addelman-Kempthorne have 2q + 1)";
+}

@@ -581,3 +581,20 @@ int oas_specialization_matches(const OasPattern* pattern, const OasSpecializatio
     return own.construction == spec->construction && own.offset == spec->offset && own.fieldKind == spec->fieldKind &&
            own.fieldDegree == spec->fieldDegree && (spec->smallN == 0 || own.smallN == 1);
 }
+
+/* ---- Dimension layout ---------------------------------------------------------------------- */
+
+uint32_t oas_pair_dimension(const OasPattern* pattern, uint32_t from)
+{
+    const uint32_t blockDims = pattern->blockDims;
+    uint32_t block, col;
+    if (blockDims < 2) return from; /* random: no pairs */
+    block = from / blockDims;
+    col = from - block * blockDims;
+    col += col & 1u;               /* an even column */
+    if (col + 1 >= blockDims) {    /* no partner left in this block: the next block's first pair */
+        block += 1;
+        col = 0;
+    }
+    return block * blockDims + col;
+}

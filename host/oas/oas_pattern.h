@@ -136,6 +136,20 @@ void oas_specialization(const OasPattern* pattern, OasSpecialization* out);
  *  value equal, except that smallN = 0 takes any N (its stratum points divide the long way). */
 int oas_specialization_matches(const OasPattern* pattern, const OasSpecialization* spec);
 
+/**
+ * Where to put a renderer's 2D sample (a pixel position, a lens or light or BSDF sample): the
+ * first dimension d >= from such that dimensions (d, d + 1) lie in one block of `pattern` at an
+ * even column. Such a pair is stratified jointly (any two columns of one strength-2 OA block
+ * are; columns of different blocks are independent) and, with CMJ offsets, is a correlated
+ * multi-jitter partner pair (columns (0,1), (2,3), ... of each block; with an odd blockDims the
+ * last column of a block has no partner and the next pair starts the next block). For the
+ * padded baselines the pairs are their own (jittered2d, cmj2d, zerotwo: (2p, 2p+1); sobol-burley:
+ * within its 4D groups; Halton and Sobol: within their blocks); random has none and gets `from`.
+ * 1D samples go anywhere, for instance in the gaps this leaves. The GLSL library's
+ * oas_pair_dimension is the same function (tests/pattern_test.cpp compares them).
+ */
+uint32_t oas_pair_dimension(const OasPattern* pattern, uint32_t from);
+
 /** q = p^k with p prime: returns 1 and sets *p, *k; else 0. */
 int oas_prime_power(uint32_t q, uint32_t* p, uint32_t* k);
 /** The reduction polynomial g (x^k = g(x), coefficients packed as base-p digits) used for GF(p^k):

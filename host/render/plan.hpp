@@ -5,7 +5,11 @@
 // with more than one light, light positions only with area lights, BSDF directions only where a
 // path continues (or MIS needs them), the lobe choice only with dielectrics, roulette only when
 // enabled. 2D effects start on even dimensions, so they land on OA partner columns (Bose CMJ
-// pairs (0,1), (2,3), ...). The GPU kernel and the CPU reference both follow this one plan.
+// pairs (0,1), (2,3), ...) in the first block, and in every block where blockDims is even. With
+// an odd blockDims (Bose over GF(2^k), Bose-Bush, Addelman-Kempthorne) a later block's pairs
+// start at odd dimensions (oas_pair_dimension), which this pattern-independent plan does not
+// follow yet: there a 2D effect may straddle two blocks. The GPU kernel and the CPU reference
+// both follow this one plan.
 #include <cstdint>
 #include <string>
 #include <vector>

@@ -105,6 +105,23 @@ float oas_specialized_value(OasPattern pat, float v)
     return oas_specialization_matches(pat) ? v : uintBitsToFloat(0x7fc00000u);
 }
 
+/// The first dimension d >= `dim` where a 2D sample (d, d + 1) is a stratified pair of the
+/// pattern: both in one block, at an even column (Bose CMJ's partners (0,1), (2,3), ... of each
+/// block; the padded baselines' own pairs); `dim` for random. The C API's oas_pair_dimension
+/// (oas_pattern.h says more), the same function: tests/pattern_test.cpp compares them.
+uint oas_pair_dimension(OasPattern pat, uint dim)
+{
+    if (pat.blockDims < 2u) return dim;
+    uint block = dim / pat.blockDims;
+    uint col = dim - block * pat.blockDims;
+    col += col & 1u;
+    if (col + 1u >= pat.blockDims) {
+        block += 1u;
+        col = 0u;
+    }
+    return block * pat.blockDims + col;
+}
+
 /// floor(x / s), floor(x / N) for the pattern's s and N.
 uint oas_div_s(OasPattern pat, uint x) { return oas_fastdiv(x, pat.recipS, pat.recipShifts & 0xffu); }
 uint oas_div_n(OasPattern pat, uint x) { return oas_fastdiv(x, pat.recipN, (pat.recipShifts >> 16u) & 0xffu); }
