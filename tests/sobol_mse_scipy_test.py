@@ -21,17 +21,9 @@ COUNTS = (64, 256, 1024)
 LIMIT = 1.1
 
 
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
+from scipy_support import fail, import_scipy
 
-
-try:
-    import numpy as np
-    import scipy
-    from scipy.stats import qmc
-except ImportError as error:
-    fail(f"cannot import scipy ({error}) with {sys.executable}: install python3-scipy (scripts/setup.sh)")
+np, scipy, qmc = import_scipy()
 
 
 def run(checker, sampler, n, points):

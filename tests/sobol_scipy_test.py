@@ -28,18 +28,9 @@ LATE_ROWS = (1024, 2**16 - 4, 8)
 INDEX_BITS = 24
 
 
-def fail(message):
-    print(f"FAIL: {message}", file=sys.stderr)
-    sys.exit(1)
+from scipy_support import fail, import_scipy
 
-
-try:
-    import numpy as np
-    from scipy.stats import qmc
-    import scipy
-except ImportError as error:
-    fail(f"cannot import scipy ({error}) with {sys.executable}: install python3-scipy "
-         "(scripts/setup.sh) or point CMake's Python3_EXECUTABLE at an interpreter that has it")
+np, scipy, qmc = import_scipy()
 
 
 def ours(checker, dims, indices):
