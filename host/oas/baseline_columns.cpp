@@ -114,27 +114,26 @@ void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) co
         return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_halton_column_dim(pat, column, i); });
     }
     case glsl::OAS_SOBOL:
-    case glsl::OAS_SOBOL_OWEN:
-        if (dim < glsl::OAS_SOBOL_BLOCK) {
-            // Block 0 takes the indices as they are, so consecutive samples' Sobol points differ by
-            // the direction numbers of the bits that change: from i - 1 to i, bits 0 .. ctz(i),
-            // whose XOR is prefix[ctz(i)]. oas_baseline_dim's seeds and scramble, per value; the
-            // 24-step matrix product once per run (Sobol is linear over XOR, so the bits agree;
-            // tests/oa_columns_test.cpp compares every value with oas_sample).
-            const std::uint32_t* v = &sobolDirections()[std::size_t(dim) * 32];
-            std::uint32_t prefix[glsl::OAS_INDEX_BITS];
-            prefix[0] = v[0];
-            for (std::uint32_t b = 1; b < glsl::OAS_INDEX_BITS; ++b) prefix[b] = prefix[b - 1] ^ v[b];
-            const std::uint32_t dimSeed = glsl::oas_hash2(glsl::oas_hash2(passSeed, 0u), dim);  // block 0's
-            std::uint32_t x = glsl::oas_sobol(first, dim);
-            for (std::uint32_t k = 0; k < count; ++k) {
-                if (k != 0) x ^= prefix[std::countr_zero(first + k)];
-                out[k] = glsl::oas_sobol_value(pat, x, dimSeed);
-            }
-            return;
+    case glsl::OAS_SOBOL_OWEN: {  // the direction numbers and seeds once per run (OasSobolColumn)
+        const glsl::OasSobolColumn column = glsl::oas_sobol_column(passSeed, dim);
+        if (column.block != 0)  // later blocks shuffle the indices: the column's per-value code
+            return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_sobol_column_dim(pat, column, i); });
+        // Block 0 takes the indices as they are, so consecutive samples' Sobol points differ by
+        // the direction numbers of the bits that change: from i - 1 to i, bits 0 .. ctz(i), whose
+        // XOR is prefix[ctz(i)]. The seed and scramble per value; the 24-step matrix product once
+        // per run (Sobol is linear over XOR, so the bits agree; tests/oa_columns_test.cpp compares
+        // every value with oas_sample).
+        std::uint32_t prefix[glsl::OAS_INDEX_BITS];
+        prefix[0] = column.direction[0];
+        for (std::uint32_t b = 1; b < glsl::OAS_INDEX_BITS; ++b) prefix[b] = prefix[b - 1] ^ column.direction[b];
+        std::uint32_t x = glsl::oas_sobol(first, dim);
+        for (std::uint32_t k = 0; k < count; ++k) {
+            if (k != 0) x ^= prefix[std::countr_zero(first + k)];
+            out[k] = glsl::oas_sobol_value(pat, x, column.dimSeed);
         }
-        [[fallthrough]];
-    default:  // later Sobol blocks: the library's per-value code
+        return;
+    }
+    default:  // every construction has its case above; the library's per-value code otherwise
         return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_baseline_dim(pat, passSeed, i, dim); });
     }
 }
