@@ -150,11 +150,10 @@ void main()
         return;
     }
     if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {
-        // The other baselines take runs of samples, as the OAs do: the pass and its seed once per
-        // pass, then the value. One sample per invocation spent most of its time finding its
-        // pixel and pass (random ran at 0.6x the OAs' values per second on lavapipe). Lanes hold
-        // neighbouring runs of the same dimensions, so they read the same Sobol direction numbers
-        // and Halton bases.
+        // Random and sobol-burley (no per-dimension state) take runs of samples, as the OAs do:
+        // the pass and its seed once per pass, then the value. One sample per invocation spent
+        // most of its time finding its pixel and pass (random ran at 0.6x the OAs' values per
+        // second on lavapipe).
         while (count != 0u) {
             uint pass = oas_div_n(params.pattern, index);
             uint passSeed = oas_pass_seed(seed, pass);
