@@ -156,29 +156,32 @@ TEST(OaColumns, RefusesRunsThatLeaveTheirPassAndBaselinesNamingTheLimit)
 TEST(BaselineColumns, EveryBaselineEqualsOasSampleBitForBit)
 {
     // Every baseline the library names, N a square, a prime, a power of two and 2^24; runs that
-    // start anywhere in a pass (pass 0, a later pass, the last whole pass before the index wraps);
-    // dimensions across the Halton (32), Sobol-Burley (4) and Sobol (1024) blocks.
+    // start anywhere in a pass (pass 0, a later pass, the last whole pass before the index wraps)
+    // and are longer than the Sobol loop's 256-point stretches; dimensions across the Halton (32),
+    // Sobol-Burley (4) and Sobol (1024) blocks; both instruction sets' loops.
     std::size_t compared = 0;
     for (const auto& name : oas::samplerNames()) {
         if (oas::isOrthogonalArray(name)) continue;
-        for (std::uint32_t spp : {121u, 127u, 128u, 16777216u}) {
-            oas::PatternRequest r;
-            r.sampler = name;
-            r.spp = spp;
-            const oas::Pattern p = oas::makePattern(r);
-            const oas::BaselineColumns columns(p);
-            std::vector<float> out(200);
-            const std::uint32_t lastPass = (0xffffffffu / spp - 1) * spp;  // the last whole pass
-            for (std::uint32_t firstIndex : {0u, 5u, 3 * spp + 1, lastPass + 2})
-                for (std::uint32_t dim : {0u, 1u, 2u, 3u, 4u, 7u, 31u, 32u, 33u, 1023u, 1024u, 1025u, 5000u})
-                    for (std::uint32_t seed : {0u, 0x9e3779b9u}) {
-                        const std::uint32_t count = std::min({columns.samplesLeftInPass(firstIndex), 200u, spp});
-                        columns.values(seed, dim, firstIndex, count, out.data());
-                        for (std::uint32_t k = 0; k < count; ++k, ++compared)
-                            ASSERT_EQ(out[k], oas::sample(p, seed, firstIndex + k, dim))
-                                << oas::describe(p) << ", sample " << firstIndex + k << ", dim " << dim << ", seed " << seed;
-                    }
-        }
+        for (std::uint32_t spp : {121u, 127u, 128u, 16777216u})
+            for (oas::CpuIsa isa : {oas::CpuIsa::Baseline, oas::CpuIsa::Avx2}) {
+                oas::PatternRequest r;
+                r.sampler = name;
+                r.spp = spp;
+                const oas::Pattern p = oas::makePattern(r);
+                const oas::BaselineColumns columns(p, isa);
+                std::vector<float> out(600);
+                const std::uint32_t lastPass = (0xffffffffu / spp - 1) * spp;  // the last whole pass
+                for (std::uint32_t firstIndex : {0u, 5u, 3 * spp + 1, lastPass + 2})
+                    for (std::uint32_t dim : {0u, 1u, 2u, 3u, 4u, 7u, 31u, 32u, 33u, 1023u, 1024u, 1025u, 5000u})
+                        for (std::uint32_t seed : {0u, 0x9e3779b9u}) {
+                            const std::uint32_t count = std::min({columns.samplesLeftInPass(firstIndex), 600u, spp});
+                            columns.values(seed, dim, firstIndex, count, out.data());
+                            for (std::uint32_t k = 0; k < count; ++k, ++compared)
+                                ASSERT_EQ(out[k], oas::sample(p, seed, firstIndex + k, dim))
+                                    << oas::describe(p) << ", sample " << firstIndex + k << ", dim " << dim << ", seed "
+                                    << seed << ", " << (isa == oas::CpuIsa::Avx2 ? "AVX2" : "baseline") << " loops";
+                        }
+            }
     }
     EXPECT_GT(compared, 100000u);
 }
@@ -192,18 +195,20 @@ TEST(BaselineColumns, PairValuesAreEachDimensionsValues)
             oas::PatternRequest r;
             r.sampler = name;
             r.spp = spp;
-            const oas::BaselineColumns columns(oas::makePattern(r));
-            ASSERT_TRUE(columns.padded2d());
-            std::vector<float> x(100), y(100), one(100);
-            for (std::uint32_t firstIndex : {0u, 7u, 2 * spp + 3})
-                for (std::uint32_t dim : {0u, 2u, 36u}) {
-                    columns.pairValues(0xabcu, dim, firstIndex, 100, x.data(), y.data());
-                    columns.values(0xabcu, dim, firstIndex, 100, one.data());
-                    ASSERT_EQ(x, one) << name << " " << spp << " dim " << dim;
-                    columns.values(0xabcu, dim + 1, firstIndex, 100, one.data());
-                    ASSERT_EQ(y, one) << name << " " << spp << " dim " << dim + 1;
-                }
-            EXPECT_THROW(columns.pairValues(1u, 1u, 0u, 10u, x.data(), y.data()), oas::InvalidArgument);  // odd dim
+            for (oas::CpuIsa isa : {oas::CpuIsa::Baseline, oas::CpuIsa::Avx2}) {
+                const oas::BaselineColumns columns(oas::makePattern(r), isa);
+                ASSERT_TRUE(columns.padded2d());
+                std::vector<float> x(100), y(100), one(100);
+                for (std::uint32_t firstIndex : {0u, 7u, 2 * spp + 3})
+                    for (std::uint32_t dim : {0u, 2u, 36u}) {
+                        columns.pairValues(0xabcu, dim, firstIndex, 100, x.data(), y.data());
+                        columns.values(0xabcu, dim, firstIndex, 100, one.data());
+                        ASSERT_EQ(x, one) << name << " " << spp << " dim " << dim;
+                        columns.values(0xabcu, dim + 1, firstIndex, 100, one.data());
+                        ASSERT_EQ(y, one) << name << " " << spp << " dim " << dim + 1;
+                    }
+                EXPECT_THROW(columns.pairValues(1u, 1u, 0u, 10u, x.data(), y.data()), oas::InvalidArgument);  // odd dim
+            }
         }
     oas::PatternRequest r;
     r.sampler = "halton";

@@ -2,6 +2,7 @@
 #include "oas/baseline_columns.hpp"
 #include <algorithm>
 #include <bit>
+#include <type_traits>
 
 // The library's fixed-trip loops unrolled, as on the GPU: Sobol-Burley's direction numbers then
 // fold to constants, and the Sobol and Halton digit loops lose their loop overhead.
@@ -10,15 +11,6 @@
 
 namespace oas {
 namespace {
-
-/// The run's loop for one construction: `value(i)` is the value of in-pass index i. Flattened,
-/// so that the library's small functions inline into the loop and g++ can vectorize it (the
-/// random baseline's loop is one hash per lane).
-template <class Value>
-[[gnu::flatten]] inline void fill(std::uint32_t firstInPass, std::uint32_t count, float* out, Value value)
-{
-    for (std::uint32_t k = 0; k < count; ++k) out[k] = value(firstInPass + k);
-}
 
 /// A padded pair column with cmj2d's across permutation tabulated over its inputs when the
 /// table is no longer than the run (a 1 x N grid of a prime N has an across permutation of length
@@ -33,13 +25,19 @@ public:
             for (std::uint32_t v = 0; v < column_.across.l; ++v) table_[v] = glsl::oas_permutation_apply(column_.across, v);
     }
     std::uint32_t cell(std::uint32_t index) const { return glsl::oas_pair_cell(column_, index); }
-    /// oas_pair_cell_dim(pat, column, cell, index), bit for bit.
+    /// Whether value<true> may be used: cmj2d's across permutation is in the table (always
+    /// true for the other padded baselines, which have none).
+    bool tabulated() const { return tabulated_ || !cmj_; }
+    /// oas_pair_cell_dim(pat, column, cell, index), bit for bit; FromTable (when tabulated())
+    /// reads cmj2d's across image from the table. A template rather than a run-time test, so
+    /// that each loop has one straight-line body: g++ vectorized neither with the choice inside.
+    template <bool FromTable>
     float value(std::uint32_t cell, std::uint32_t index) const
     {
         std::uint32_t across = 0;
         if (cmj_) {
             const std::uint32_t input = glsl::oas_pair_across_input(pat_, column_, cell);
-            across = tabulated_ ? table_[input] : glsl::oas_permutation_apply(column_.across, input);
+            across = FromTable ? table_[input] : glsl::oas_permutation_apply(column_.across, input);
         }
         return glsl::oas_pair_cell_dim_across(pat_, column_, cell, index, across);
     }
@@ -52,10 +50,31 @@ private:
     std::uint32_t table_[kMaxTable];
 };
 
+using glsl::uint;
+/// The longest stretch the Sobol loop keeps points for on the stack before scrambling them.
+constexpr uint kMaxRun = 256;
+
+// The loops, once per instruction set: the baseline (SSE2 on x86-64) and AVX2 (eight lanes),
+// taken where the CPU has it, as OaColumns does (oa_columns.hpp).
+#define OAS_LOOP_ATTRIBUTES [[gnu::flatten]]
+#define OAS_LOOP_NAME(name) name##Baseline
+#include "oas/baseline_columns_loops.inc"
+#if OAS_CPU_HAS_AVX2_VARIANT
+#define OAS_LOOP_ATTRIBUTES [[gnu::target("avx2"), gnu::flatten]]
+#define OAS_LOOP_NAME(name) name##Avx2
+#include "oas/baseline_columns_loops.inc"
+#else
+template <uint Construction>
+constexpr auto runValuesAvx2 = runValuesBaseline<Construction>;
+template <uint Construction>
+constexpr auto runPairsAvx2 = runPairsBaseline<Construction>;
+#endif
+
 }  // namespace
 
-BaselineColumns::BaselineColumns(const Pattern& pattern)
-    : pattern_(pattern), padded2d_(glsl::oas_is_padded_2d(glsl::toGlsl(pattern)))
+BaselineColumns::BaselineColumns(const Pattern& pattern, CpuIsa isa)
+    : pattern_(pattern), padded2d_(glsl::oas_is_padded_2d(glsl::toGlsl(pattern))),
+      isa_(isa == CpuIsa::Avx2 ? bestCpuIsa() : CpuIsa::Baseline)
 {
     if (pattern.construction < glsl::OAS_RANDOM)
         throw InvalidArgument("BaselineColumns: " + describe(pattern) + " is an orthogonal array (use OaColumns)");
@@ -69,73 +88,51 @@ void BaselineColumns::checkRun(std::uint32_t firstIndex, std::uint32_t count) co
                               "); at most " + std::to_string(samplesLeftInPass(firstIndex)) + " fit");
 }
 
-[[gnu::flatten]] void BaselineColumns::pairValues(std::uint32_t pixelSeed, std::uint32_t firstDim, std::uint32_t firstIndex,
-                                                  std::uint32_t count, float* outX, float* outY) const
+void BaselineColumns::pairValues(std::uint32_t pixelSeed, std::uint32_t firstDim, std::uint32_t firstIndex, std::uint32_t count,
+                                 float* outX, float* outY) const
 {
     if (!padded2d_ || firstDim % 2 != 0)
         throw InvalidArgument("BaselineColumns::pairValues: " + describe(pattern_) + ", first dimension " +
                               std::to_string(firstDim) + ": needs a padded 2D pattern and an even first dimension");
     checkRun(firstIndex, count);
     const glsl::OasPattern pat = glsl::toGlsl(pattern_);
-    const std::uint32_t pass = glsl::oas_div_n(pat, firstIndex);
-    const std::uint32_t passSeed = glsl::oas_pass_seed(pixelSeed, pass);
-    const std::uint32_t first = firstIndex - pass * pat.N;
-    const PairColumn x(pat, passSeed, firstDim, count), y(pat, passSeed, firstDim + 1, count);
-    for (std::uint32_t k = 0; k < count; ++k) {
-        const std::uint32_t i = first + k, cell = x.cell(i);  // one shuffle serves both
-        outX[k] = x.value(cell, i);
-        outY[k] = y.value(cell, i);
+    const uint pass = glsl::oas_div_n(pat, firstIndex);
+    const uint passSeed = glsl::oas_pass_seed(pixelSeed, pass), first = firstIndex - pass * pat.N;
+    const bool avx2 = isa_ == CpuIsa::Avx2;
+    switch (pat.construction) {
+    case glsl::OAS_JITTERED_2D:
+        return (avx2 ? runPairsAvx2<glsl::OAS_JITTERED_2D> : runPairsBaseline<glsl::OAS_JITTERED_2D>)(pat, passSeed, firstDim, first, count, outX, outY);
+    case glsl::OAS_CMJ_2D:
+        return (avx2 ? runPairsAvx2<glsl::OAS_CMJ_2D> : runPairsBaseline<glsl::OAS_CMJ_2D>)(pat, passSeed, firstDim, first, count, outX, outY);
+    default:
+        return (avx2 ? runPairsAvx2<glsl::OAS_ZERO_TWO> : runPairsBaseline<glsl::OAS_ZERO_TWO>)(pat, passSeed, firstDim, first, count, outX, outY);
     }
 }
 
-[[gnu::flatten]] void BaselineColumns::values(std::uint32_t pixelSeed, std::uint32_t dim, std::uint32_t firstIndex,
-                                              std::uint32_t count, float* out) const
+void BaselineColumns::values(std::uint32_t pixelSeed, std::uint32_t dim, std::uint32_t firstIndex, std::uint32_t count,
+                             float* out) const
 {
     checkRun(firstIndex, count);
     const glsl::OasPattern pat = glsl::toGlsl(pattern_);
     // oas_baseline_sample, split: the pass and its seed are the run's.
-    const std::uint32_t pass = glsl::oas_div_n(pat, firstIndex);
-    const std::uint32_t passSeed = glsl::oas_pass_seed(pixelSeed, pass);
-    const std::uint32_t first = firstIndex - pass * pat.N;
+    const uint pass = glsl::oas_div_n(pat, firstIndex);
+    const uint passSeed = glsl::oas_pass_seed(pixelSeed, pass), first = firstIndex - pass * pat.N;
+    const bool avx2 = isa_ == CpuIsa::Avx2;
+#define OAS_RUN_VALUES(construction) \
+    return (avx2 ? runValuesAvx2<construction> : runValuesBaseline<construction>)(pat, passSeed, dim, first, count, out)
     switch (pat.construction) {
-    case glsl::OAS_RANDOM:  // oas_baseline_dim's independent values
-        return fill(first, count, out,
-                    [&](std::uint32_t i) { return float(glsl::oas_hash3(passSeed, dim, i) >> 8u) * glsl::OAS_INV_2POW24; });
-    case glsl::OAS_SOBOL_BURLEY:
-        return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_sobol_burley_dim(passSeed, i, dim); });
-    case glsl::OAS_JITTERED_2D:
-    case glsl::OAS_CMJ_2D:
-    case glsl::OAS_ZERO_TWO: {  // the pair's permutation keys and grid constants once per run
-        const PairColumn column(pat, passSeed, dim, count);
-        return fill(first, count, out, [&](std::uint32_t i) { return column.value(column.cell(i), i); });
+    case glsl::OAS_RANDOM: OAS_RUN_VALUES(glsl::OAS_RANDOM);
+    case glsl::OAS_SOBOL_BURLEY: OAS_RUN_VALUES(glsl::OAS_SOBOL_BURLEY);
+    case glsl::OAS_JITTERED_2D: OAS_RUN_VALUES(glsl::OAS_JITTERED_2D);
+    case glsl::OAS_CMJ_2D: OAS_RUN_VALUES(glsl::OAS_CMJ_2D);
+    case glsl::OAS_ZERO_TWO: OAS_RUN_VALUES(glsl::OAS_ZERO_TWO);
+    case glsl::OAS_HALTON: OAS_RUN_VALUES(glsl::OAS_HALTON);
+    case glsl::OAS_SOBOL: OAS_RUN_VALUES(glsl::OAS_SOBOL);
+    case glsl::OAS_SOBOL_OWEN: OAS_RUN_VALUES(glsl::OAS_SOBOL_OWEN);
+    default:  // every baseline has its case above; the library's per-value code otherwise
+        for (uint k = 0; k < count; ++k) out[k] = glsl::oas_baseline_dim(pat, passSeed, first + k, dim);
     }
-    case glsl::OAS_HALTON: {  // the base's constants and digit permutations once per run
-        const glsl::OasHaltonColumn column = glsl::oas_halton_column(pat, passSeed, dim);
-        return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_halton_column_dim(pat, column, i); });
-    }
-    case glsl::OAS_SOBOL:
-    case glsl::OAS_SOBOL_OWEN: {  // the direction numbers and seeds once per run (OasSobolColumn)
-        const glsl::OasSobolColumn column = glsl::oas_sobol_column(passSeed, dim);
-        if (column.block != 0)  // later blocks shuffle the indices: the column's per-value code
-            return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_sobol_column_dim(pat, column, i); });
-        // Block 0 takes the indices as they are, so consecutive samples' Sobol points differ by
-        // the direction numbers of the bits that change: from i - 1 to i, bits 0 .. ctz(i), whose
-        // XOR is prefix[ctz(i)]. The seed and scramble per value; the 24-step matrix product once
-        // per run (Sobol is linear over XOR, so the bits agree; tests/oa_columns_test.cpp compares
-        // every value with oas_sample).
-        std::uint32_t prefix[glsl::OAS_INDEX_BITS];
-        prefix[0] = column.direction[0];
-        for (std::uint32_t b = 1; b < glsl::OAS_INDEX_BITS; ++b) prefix[b] = prefix[b - 1] ^ column.direction[b];
-        std::uint32_t x = glsl::oas_sobol(first, dim);
-        for (std::uint32_t k = 0; k < count; ++k) {
-            if (k != 0) x ^= prefix[std::countr_zero(first + k)];
-            out[k] = glsl::oas_sobol_value(pat, x, column.dimSeed);
-        }
-        return;
-    }
-    default:  // every construction has its case above; the library's per-value code otherwise
-        return fill(first, count, out, [&](std::uint32_t i) { return glsl::oas_baseline_dim(pat, passSeed, i, dim); });
-    }
+#undef OAS_RUN_VALUES
 }
 
 }  // namespace oas

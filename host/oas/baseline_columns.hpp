@@ -8,10 +8,11 @@
 // Sobol block and scramble seeds. The OAs had a bulk path and the baselines did not, so on the
 // CPU twin a padded 2D render traced 0.18-0.35x the paths per second of an OA render (issue
 // "Every baseline at its best speed"; docs/BENCHMARKS.md). Here that state is made once per run,
-// and each value costs its own work only; independent random values are one hash each in a loop
-// g++ vectorizes.
+// and each value costs its own work only, in loops compiled per construction and for AVX2
+// (baseline_columns_loops.inc) that g++ vectorizes: eight values at a time.
 #include <cstdint>
 
+#include "oas/oa_columns.hpp"  // CpuIsa
 #include "oas/pattern.hpp"
 
 namespace oas {
@@ -22,8 +23,10 @@ namespace oas {
 /// pixelSeed, firstIndex + k, dim) bit for bit (tests/oa_columns_test.cpp).
 class BaselineColumns {
 public:
-    /// Throws InvalidArgument for an orthogonal array (OaColumns serves those).
-    explicit BaselineColumns(const Pattern& pattern);
+    /// Throws InvalidArgument for an orthogonal array (OaColumns serves those). `isa`: the
+    /// instruction set of the loops, CpuIsa::Avx2 meaning the best this CPU runs (the values are
+    /// the same bits either way; tests/oa_columns_test.cpp runs both).
+    explicit BaselineColumns(const Pattern& pattern, CpuIsa isa = CpuIsa::Avx2);
 
     /// Dimension `dim` for the run: out[k] for sample firstIndex + k. Throws InvalidArgument when
     /// the run leaves its pass (count > samplesLeftInPass(firstIndex)).
@@ -41,11 +44,15 @@ public:
     /// The longest run that starts at `firstIndex` and stays in its pass.
     std::uint32_t samplesLeftInPass(std::uint32_t firstIndex) const { return pattern_.N - firstIndex % pattern_.N; }
     const Pattern& pattern() const { return pattern_; }
+    /// The instruction set the loops run (CpuIsa::Baseline where AVX2 was not asked for or the
+    /// CPU lacks it).
+    CpuIsa isa() const { return isa_; }
 
 private:
     void checkRun(std::uint32_t firstIndex, std::uint32_t count) const;
     Pattern pattern_;
     bool padded2d_;
+    CpuIsa isa_;
 };
 
 }  // namespace oas

@@ -23,49 +23,29 @@ float sample(const Pattern& pattern, std::uint32_t seed, std::uint32_t index, st
 }
 
 namespace {
-// The other baselines (random, Halton, the Sobol samplers): BaselineColumns, runs of up to
-// kRunSamples samples of one pass, one dimension per call (the pass's seeds made once a run).
+// The baselines: BaselineColumns, runs of up to kRunSamples samples of one pass; a padded 2D
+// pattern's pairs two dimensions a call (their cell once per sample), the others one.
 void generateBaseline(const BaselineColumns& columns, std::uint32_t seed, const SampleRequest& r, float* pixelOut,
                       std::vector<float>& values)
 {
     constexpr std::uint32_t kRunSamples = 1024;
-    values.resize(kRunSamples);
+    values.resize(2 * kRunSamples);
+    auto scatter = [&](std::uint32_t done, std::uint32_t dim, std::uint32_t count, const float* from) {
+        float* dst = pixelOut + std::size_t(done) * r.dims + dim;
+        for (std::uint32_t k = 0; k < count; ++k) dst[std::size_t(k) * r.dims] = from[k];
+    };
     for (std::uint32_t done = 0; done < r.spp;) {
         const std::uint32_t first = r.firstSample + done;
         const std::uint32_t count = std::min({r.spp - done, columns.samplesLeftInPass(first), kRunSamples});
         for (std::uint32_t dim = 0; dim < r.dims; ++dim) {
-            columns.values(seed, dim, first, count, values.data());
-            float* dst = pixelOut + std::size_t(done) * r.dims + dim;
-            for (std::uint32_t k = 0; k < count; ++k) dst[std::size_t(k) * r.dims] = values[k];
-        }
-        done += count;
-    }
-}
-
-// The padded 2D baselines' fast path: each pair's keys once per pass (oas_pair_column), and one
-// cell per (sample, pair) shared by the pair's two dimensions. Flattened: inlining the library's
-// small functions into this loop lets the compiler overlap consecutive samples' work.
-[[gnu::flatten]] void generatePadded2d(const glsl::OasPattern& pat, std::uint32_t seed, const SampleRequest& r, float* pixelOut)
-{
-    // Counted in samples done, not by an end index: the last index may be 2^32 - 1, where
-    // firstSample + spp wraps to 0.
-    for (std::uint32_t done = 0; done < r.spp;) {
-        const std::uint32_t first = r.firstSample + done;
-        const std::uint32_t pass = glsl::oas_div_n(pat, first);
-        const std::uint32_t passSeed = glsl::oas_pass_seed(seed, pass);
-        const std::uint32_t firstInPass = first - pass * pat.N;
-        const std::uint32_t count = std::min(r.spp - done, pat.N - firstInPass);
-        for (std::uint32_t d = 0; d < r.dims; d += 2) {
-            const bool both = d + 1 < r.dims;
-            const glsl::OasPairColumn x = glsl::oas_pair_column(pat, passSeed, d);
-            const glsl::OasPairColumn y = both ? glsl::oas_pair_column(pat, passSeed, d + 1) : x;
-            float* dst = pixelOut + std::size_t(done) * r.dims + d;
-            for (std::uint32_t k = 0; k < count; ++k, dst += r.dims) {
-                const std::uint32_t index = firstInPass + k;
-                const std::uint32_t cell = glsl::oas_pair_cell(x, index);
-                dst[0] = glsl::oas_pair_cell_dim(pat, x, cell, index);
-                if (both) dst[1] = glsl::oas_pair_cell_dim(pat, y, cell, index);
+            if (columns.padded2d() && dim % 2 == 0 && dim + 1 < r.dims) {
+                columns.pairValues(seed, dim, first, count, values.data(), values.data() + kRunSamples);
+                scatter(done, dim, count, values.data());
+                scatter(done, ++dim, count, values.data() + kRunSamples);
+                continue;
             }
+            columns.values(seed, dim, first, count, values.data());
+            scatter(done, dim, count, values.data());
         }
         done += count;
     }
@@ -113,11 +93,7 @@ void generateCpu(const Pattern& pattern, const SampleRequest& r, float* out, uns
             const std::uint32_t y = r.y0 + std::uint32_t(px / r.width);
             const std::uint32_t seed = glsl::oas_pixel_seed(x, y, r.seed);
             float* pixelOut = out + px * r.spp * r.dims;
-            if (glsl::oas_is_padded_2d(pat)) {
-                generatePadded2d(pat, seed, r, pixelOut);
-                continue;
-            }
-            if (!oa) {  // other baselines: runs of one pass, a dimension a call
+            if (!oa) {  // baselines: runs of one pass
                 generateBaseline(*baselineColumns, seed, r, pixelOut, values);
                 continue;
             }

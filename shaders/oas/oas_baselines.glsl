@@ -357,6 +357,8 @@ struct OasHaltonColumn {
     uint shiftBase;
     uint digits;       ///< digits a value is made of: base^digits >= N, within 2^24
     uint strata;       ///< base^digits
+    uint recipStrata;  ///< oas_fastdiv constants of strata: the stratum point divides by it
+    uint shiftStrata;
     uint scale[OAS_HALTON_ODD_BASE_DIGITS];   ///< digit k's permutation: d -> scale d + offset mod base
     uint offset[OAS_HALTON_ODD_BASE_DIGITS];
     uint flips;        ///< base 2's digits 15 .. 23: bit (k - 15) flips digit k
@@ -401,6 +403,11 @@ OasHaltonColumn oas_halton_column(OasPattern pat, uint seed, uint dim)
             c.digits += 1u;
         }
     }
+    // The stratum point's divisions by strata through a reciprocal made here, once: per value,
+    // oas_stratum_point's long divisions were most of a Halton value's cost on the CPU (integer
+    // division has no vector form) and a share on lavapipe.
+    c.shiftStrata = oas_fastdiv_shift(c.strata);
+    c.recipStrata = oas_fastdiv_recip24(c.strata, c.shiftStrata);
     return c;
 }
 
@@ -425,7 +432,9 @@ float oas_halton_column_dim(OasPattern pat, OasHaltonColumn c, uint index)
             i >>= 1u;
         }
     }
-    return oas_specialized_value(pat, oas_stratum_point(m, c.strata, oas_hash2(c.jitterSeed, index)));
+    uint jitter = oas_hash2(c.jitterSeed, index);
+    return oas_specialized_value(
+        pat, oas_stratum_point_divided(m, c.strata, c.recipStrata, c.shiftStrata, jitter, OAS_SMALL_STRATA_ANY_N(c.strata)));
 }
 
 /// Baseline samplers. `index` < N; passes (index >= N) are handled by oas_sample.

@@ -24,6 +24,13 @@ const uint OAS_ONE_FIXED = 16777216u;
 #else
 #define OAS_SMALL_STRATA(K) false
 #endif
+// The same test for a K that the pattern's N does not bound (Halton's base^digits can pass 2^16
+// with N <= 2^16): the C++ twin's branch, or the long division.
+#if defined(OAS_RUNTIME_BRANCHES)
+#define OAS_SMALL_STRATA_ANY_N(K) ((K) <= 65536u)
+#else
+#define OAS_SMALL_STRATA_ANY_N(K) false
+#endif
 
 /// ceil(m * 2^24 / K) for m <= K and 1 <= K <= 2^24, in 32-bit integers: the smallest 24-bit
 /// fixed-point value F with F / 2^24 >= m / K. Long division eight bits at a time keeps every
@@ -54,21 +61,15 @@ float oas_stratum_point(uint m, uint K, uint u)
     return float(lo + oas_mulhi(hi - lo, u)) * OAS_INV_2POW24;
 }
 
-/// oas_stratum_point with the division by K done by oas_fastdiv (recip, l describe K); the same
-/// values, bit for bit. With A = floor(2^24 / K) and B = 2^24 mod K, m 2^24 = m A K + m B, so
-/// ceil(m 2^24 / K) = m A + ceil(m B / K), and m B < K^2 fits 32 bits for K <= 2^16: one division
-/// of m B (A does not depend on m, so it is off the value's critical path). Otherwise a long
-/// division eight bits at a time: three dependent divisions. Either way the upper end m + 1 adds
-/// A and B to the lower end's quotient and remainder. Which path runs is OAS_SMALL_STRATA(K)
-/// (oas_pattern.glsl): a shader specialised on the pattern (OAS_STATIC_SMALL_N) compiles one path;
-/// an unspecialised shader takes the long division, as lavapipe would run both sides of a branch.
-float oas_stratum_point_fast(uint m, uint K, uint recip, uint l, uint u)
+/// oas_stratum_point_fast's work with its path chosen by the caller: shortDivision needs K <=
+/// 2^16 (the one-division path); false takes the long division, exact for every K <= 2^24.
+float oas_stratum_point_divided(uint m, uint K, uint recip, uint l, uint u, bool shortDivision)
 {
     uint stepQ = oas_fastdiv(OAS_ONE_FIXED, recip, l);  // A
     uint stepR = OAS_ONE_FIXED - stepQ * K;             // B
     uint q;
     uint r;
-    if (OAS_SMALL_STRATA(K)) {
+    if (shortDivision) {
         uint product = m * stepR;  // < K^2 <= 2^32
         uint d = oas_fastdiv(product, recip, l);
         q = m * stepQ + d;
@@ -91,6 +92,19 @@ float oas_stratum_point_fast(uint m, uint K, uint recip, uint l, uint u)
     if (r2 >= K) { r2 -= K; q2 += 1u; }
     uint hi = r2 != 0u ? q2 + 1u : q2;
     return float(lo + oas_mulhi(hi - lo, u)) * OAS_INV_2POW24;
+}
+
+/// oas_stratum_point with the division by K done by oas_fastdiv (recip, l describe K); the same
+/// values, bit for bit. With A = floor(2^24 / K) and B = 2^24 mod K, m 2^24 = m A K + m B, so
+/// ceil(m 2^24 / K) = m A + ceil(m B / K), and m B < K^2 fits 32 bits for K <= 2^16: one division
+/// of m B (A does not depend on m, so it is off the value's critical path). Otherwise a long
+/// division eight bits at a time: three dependent divisions. Either way the upper end m + 1 adds
+/// A and B to the lower end's quotient and remainder. Which path runs is OAS_SMALL_STRATA(K)
+/// (oas_pattern.glsl): a shader specialised on the pattern (OAS_STATIC_SMALL_N) compiles one path;
+/// an unspecialised shader takes the long division, as lavapipe would run both sides of a branch.
+float oas_stratum_point_fast(uint m, uint K, uint recip, uint l, uint u)
+{
+    return oas_stratum_point_divided(m, K, recip, l, u, OAS_SMALL_STRATA(K));
 }
 
 #endif // OAS_STRATA_GLSL
