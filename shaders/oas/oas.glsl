@@ -120,6 +120,11 @@
 //     the camera and every path vertex). GPU compilers inline the whole sampler wherever it is
 //     called: a path tracer that calls it at every use takes 20 s to build its pipeline on
 //     lavapipe, against 1.5 s with one call site.
+//   - A renderer that draws where it uses (oas_sample, oas_draw per path vertex) makes an OA
+//     block's and column's state again for every value. Prefetch instead: define
+//     OAS_PREFETCH_STORE(at, v) before including this file, and a kernel of its own dispatched
+//     before the tracer calls oas_prefetch(p, seed, dim, index, n, offset, stride) once per
+//     (pixel, dimension) for the tracer's next n samples (oas_prefetch.glsl says more).
 //
 // NUMERIC CONTRACT
 //   Outputs are F * 2^-24 with integer F in [0, 2^24). A point promised to stratum m of K strata
@@ -174,5 +179,8 @@ float oas_sample(OasPattern pat, uint pixelSeed, uint index, uint dim)
 }
 
 #include "oas_draw.glsl"
+#ifdef OAS_PREFETCH_STORE
+#include "oas_prefetch.glsl"
+#endif
 
 #endif // OAS_GLSL

@@ -1,0 +1,52 @@
+#pragma once
+// examples/smallpt: a small Vulkan compute path tracer (smallpt.comp) that embeds oas the way
+// docs/EMBEDDING.md says, with its own hash kept as the baseline. Used by oas-smallpt (render,
+// benchmark) and tests/smallpt_test.cpp.
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "oas/oas_pattern.h"
+#include "vk/context.hpp"
+
+namespace smallpt {
+
+/// Where the tracer's random numbers come from (smallpt.comp's samplerMode).
+enum class Sampler : std::uint32_t {
+    OwnHash = 0,      ///< the renderer's own integer hash
+    OasInline = 1,    ///< oas_sample where each number is used
+    OasPrefetch = 2,  ///< oas_prefetch in a kernel dispatched before each tracer dispatch
+};
+const char* samplerName(Sampler s);
+
+/// The number of dimensions one path may use with `pattern`: smallpt.comp's layout (a 2D pixel
+/// sample, then per vertex a 2D light sample, a 2D bounce, a lobe choice and a roulette number,
+/// every 2D sample on oas_pair_dimension), replayed through the C API for the deepest path.
+std::uint32_t pathDimensions(const OasPattern& pattern);
+
+/// One renderer: the pipelines for one pattern kind (specialized with oas_specialization) and
+/// one sampler, and the buffers for one image size. Throws std::invalid_argument for a size or a
+/// dispatch too large for the device's texel buffers, naming the limit.
+class Renderer {
+public:
+    Renderer(oas::vk::Context& ctx, const OasPattern& pattern, Sampler sampler, std::uint32_t width, std::uint32_t height,
+             std::uint32_t samplesPerDispatch = 8);
+    /// Samples [0, spp) of every pixel with `frameSeed`; the mean radiance, RGB per pixel, rows top down.
+    std::vector<float> render(std::uint32_t frameSeed, std::uint32_t spp);
+    /// The prefetch kernel's values for samples [firstSample, firstSample + samplesPerDispatch):
+    /// value (pixel, k, dim) at (pixel * samplesPerDispatch + k) * dimensions() + dim.
+    std::vector<float> prefetch(std::uint32_t frameSeed, std::uint32_t firstSample);
+    std::uint32_t dimensions() const { return dims_; }
+
+private:
+    struct Params;
+    void prefetchDispatch(const Params& params);
+    oas::vk::Context& ctx_;
+    OasPattern pattern_;
+    Sampler sampler_;
+    std::uint32_t width_, height_, samplesPerDispatch_, dims_;
+    oas::vk::Buffer sums_, values_;
+    std::optional<oas::vk::ComputePipeline> tracer_, prefetcher_;  // made on first use
+};
+
+}  // namespace smallpt
