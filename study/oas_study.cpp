@@ -46,6 +46,28 @@ std::string timestamp()
     return text;
 }
 
+/// The commit being timed, from git in the source tree: the short hash, with "-dirty" when the
+/// render-time sources have uncommitted changes; "" where git or the repository is missing (an
+/// exported tarball).
+std::string sourceCommit()
+{
+    const std::string git = "git -C '" + std::string(OAS_SOURCE_DIR) + "' ";
+    auto output = [](const std::string& command) {
+        std::string text;
+        if (std::FILE* pipe = ::popen((command + " 2>/dev/null").c_str(), "r")) {
+            char buf[256];
+            for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) text.append(buf, n);
+            if (::pclose(pipe) != 0) return std::string();
+        }
+        while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+        return text;
+    };
+    const std::string commit = output(git + "rev-parse --short=12 HEAD");
+    if (commit.empty()) return commit;
+    const bool dirty = !output(git + "status --porcelain -- shaders host study/scene_costs.cpp study/tracer_cache.hpp").empty();
+    return dirty ? commit + "-dirty" : commit;
+}
+
 /// `section` with "- Machine: <CPU> (<threads> threads), <date>" as its first list item (after the
 /// heading line), so that every section names where and when it was measured.
 std::string stamped(const std::string& section)
@@ -94,6 +116,15 @@ std::string goalLines(const std::string& section)
     return out.str();
 }
 
+/// The first-screen note for stale cost runs (SceneCosts.CommittedCostRunsAreCurrentOrTheFirstScreenSaysTheyAreStale).
+std::string staleCostNote(const std::string& scenes)
+{
+    return "**Stale cost runs:** the equal-time figures below take their times from cost runs (" + scenes +
+           ") timed on other render-time sources than today's (`docs/study/scene_costs.csv`, column `sources`; empty "
+           "where a run predates the stamp), so they may have moved since. Rerun them with `scripts/study.sh --parts "
+           "scene-costs`.\n";
+}
+
 /// docs/STUDY.md from the parts' sections in outDir (each states its own machine, date, command).
 void assembleStudy(const std::string& studyMd, const std::string& outDir)
 {
@@ -106,6 +137,14 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
         answer = scenes.substr(at, end == std::string::npos ? std::string::npos : end + 1 - at);
         scenes.erase(at, answer.size());
         answer.replace(0, std::string("### The short answer").size(), "## The short answer");
+        // A cost run timed on other render-time sources than this build's says so first.
+        const std::string costPath = outDir + "/scene_costs.csv";
+        const auto stale = std::filesystem::exists(costPath) ? staleCostScenes(readSceneCosts(costPath)) : std::vector<std::string>{};
+        if (!stale.empty()) {
+            std::string names;
+            for (const auto& scene : stale) names += (names.empty() ? "" : ", ") + scene;
+            answer.insert(answer.find('\n') + 1, "\n" + staleCostNote(names));
+        }
     }
     const std::string cost = readFile(outDir + "/cost.md"), analytic = readFile(outDir + "/analytic.md"),
                       spectra = readFile(outDir + "/spectra.md"), pairs = readFile(outDir + "/pairs.md");
@@ -432,6 +471,7 @@ int main(int argc, char** argv)
             co.scenesDir = scenesDir;
             co.rounds = costRounds;
             co.date = today();
+            co.commit = sourceCommit();
             co.machine = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " threads)";
             std::vector<SceneCost> fresh;
             // Pipeline builds per cost run; the rows of scenes not rerun now are kept, as in scene_costs.csv.

@@ -1,5 +1,6 @@
 #include "scene_costs.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "oas_render_sources.h"  // generated: OAS_RENDER_SOURCES_HASH
 #include "render/tracer.hpp"
 #include "scene/scene.hpp"
 #include "stats.hpp"
@@ -16,8 +18,8 @@ namespace oas::study {
 
 const std::vector<std::string>& sceneCostColumns()
 {
-    static const std::vector<std::string> columns = {"scene",  "sampler", "spp",     "seconds", "se",
-                                                     "rounds", "run_id",  "machine", "device",  "date"};
+    static const std::vector<std::string> columns = {"scene",  "sampler", "spp",    "seconds", "se",     "rounds",
+                                                     "run_id", "machine", "device", "date",    "commit", "sources"};
     return columns;
 }
 
@@ -26,13 +28,15 @@ void writeSceneCosts(const std::string& path, const std::vector<SceneCost>& cost
     CsvTable csv(sceneCostColumns());
     for (const auto& c : costs)
         csv.add({c.scene, c.sampler, std::to_string(c.spp), fmtG(c.seconds), fmtG(c.se), std::to_string(c.rounds), c.runId,
-                 c.machine, c.device, c.date});
+                 c.machine, c.device, c.date, c.commit, c.sources});
     csv.write(path);
 }
 
 std::vector<SceneCost> readSceneCosts(const std::string& path)
 {
     const CsvRows t = readCsv(path);
+    // Files from before cost runs were stamped have no commit and sources columns.
+    const bool hasStamps = std::find(t.header.begin(), t.header.end(), "sources") != t.header.end();
     std::vector<SceneCost> out;
     for (size_t i = 0; i < t.rows.size(); ++i) {
         const auto& row = t.rows[i];
@@ -55,6 +59,10 @@ std::vector<SceneCost> readSceneCosts(const std::string& path)
         c.machine = text("machine");
         c.device = text("device");
         c.date = text("date");
+        if (hasStamps) {
+            c.commit = text("commit");
+            c.sources = text("sources");
+        }
         out.push_back(c);
     }
     return out;
@@ -99,6 +107,17 @@ std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const s
             out.push_back(c);
         }
     return out;
+}
+
+std::string renderSourcesHash() { return OAS_RENDER_SOURCES_HASH; }
+
+std::vector<std::string> staleCostScenes(const std::vector<SceneCost>& costs)
+{
+    std::vector<std::string> stale;
+    for (const auto& c : costs)
+        if (c.sources != renderSourcesHash() && std::find(stale.begin(), stale.end(), c.scene) == stale.end())
+            stale.push_back(c.scene);
+    return stale;
 }
 
 SceneCost summarizeTimes(const std::vector<double>& seconds)
@@ -180,6 +199,8 @@ std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::v
         c.machine = o.machine;
         c.device = context.deviceName();
         c.date = o.date;
+        c.commit = o.commit;
+        c.sources = renderSourcesHash();
         out.push_back(c);
     }
     return out;

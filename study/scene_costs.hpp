@@ -19,7 +19,8 @@ namespace oas::study {
 
 // SceneCost (one point of a cost run) is declared in scene_study.hpp, whose section reads it.
 
-/// scene_costs.csv's columns: scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date.
+/// scene_costs.csv's columns: scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date,
+/// commit,sources (the last two may be missing: files from before cost runs were stamped).
 const std::vector<std::string>& sceneCostColumns();
 void writeSceneCosts(const std::string& path, const std::vector<SceneCost>& costs);
 /// Throws std::runtime_error naming the file, row and column for a missing column or a bad number.
@@ -35,13 +36,19 @@ std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const s
 /// count nearest in log × spp. Throws std::runtime_error when the run has no row of the sampler.
 double costRunSeconds(const std::vector<SceneCost>& sceneRows, const std::string& sampler, std::uint32_t spp);
 
+/// The hash of the sources that decide render time (cmake/oas_sources_hash.cmake), as this build
+/// was compiled from: a cost run stamped with another hash timed other code.
+std::string renderSourcesHash();
+/// The scenes whose rows in `costs` are not stamped with renderSourcesHash(), in first-seen order.
+std::vector<std::string> staleCostScenes(const std::vector<SceneCost>& costs);
+
 /// Mean and standard error (sd / √n) of the times; s.e. 0 for one time.
 SceneCost summarizeTimes(const std::vector<double>& seconds);
 
 struct SceneCostOptions {
     std::string scenesDir = "scenes";
     std::uint32_t rounds = 3;  ///< at least 3
-    std::string runId, machine, date;
+    std::string runId, machine, date, commit;
 };
 
 /// Times every (sampler, spp) point that `measurements` hold for `record`'s scene, at the

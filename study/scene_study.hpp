@@ -238,6 +238,10 @@ struct SceneCost {
     double seconds = 0, se = 0;
     std::uint32_t rounds = 0;
     std::string runId, machine, device, date;
+    /// What was timed: the commit (git rev-parse, "-dirty" with uncommitted changes to the render
+    /// sources; empty where unknown) and renderSourcesHash() of the build that timed it (empty in
+    /// rows from before cost runs were stamped).
+    std::string commit, sources;
 };
 
 /// The markdown section (STUDY.md's scene part) from the data alone: every table, goal and verdict

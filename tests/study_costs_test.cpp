@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <iterator>
 #include <fstream>
 #include <filesystem>
 
@@ -119,10 +121,21 @@ TEST(SceneCosts, FileRoundTripsAndMergeReplacesWholeScenes)
     std::ifstream in(path);
     std::string header;
     std::getline(in, header);
-    EXPECT_EQ(header, "scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date");
+    EXPECT_EQ(header, "scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date,commit,sources");
+    // The stamps round-trip; a file from before cost runs were stamped reads with empty stamps.
+    a[1].commit = "0123456789ab-dirty";
+    a[1].sources = "fedcba9876543210";
+    writeSceneCosts(path, a);
+    EXPECT_EQ(readSceneCosts(path)[1].commit, "0123456789ab-dirty");
+    EXPECT_EQ(readSceneCosts(path)[1].sources, "fedcba9876543210");
+    std::ofstream(path) << "scene,sampler,spp,seconds,se,rounds,run_id,machine,device,date\ncornell7d,Sobol,16,1,0,3,r,m,d,today\n";
+    const auto unstamped = readSceneCosts(path);
+    ASSERT_EQ(unstamped.size(), 1u);
+    EXPECT_TRUE(unstamped[0].commit.empty() && unstamped[0].sources.empty());
+    EXPECT_EQ(staleCostScenes(unstamped), std::vector<std::string>{"cornell7d"});
 
     // A bad cell names the file, row and column.
-    std::ofstream(path) << header << "\ncornell7d,Sobol,16,-1,0,3,r,m,d,today\n";
+    std::ofstream(path) << header << "\ncornell7d,Sobol,16,-1,0,3,r,m,d,today,c,s\n";
     try {
         readSceneCosts(path);
         FAIL() << "a negative time was read";
@@ -138,6 +151,59 @@ TEST(SceneCosts, FileRoundTripsAndMergeReplacesWholeScenes)
     EXPECT_EQ(costsOfScene(merged, "interior_deep").front().runId, "run-b");
     EXPECT_TRUE(costsOfScene(merged, "blue_spheres9d").empty());
     std::filesystem::remove_all(dir);
+}
+
+std::string readText(const std::filesystem::path& path)
+{
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+TEST(SceneCosts, TheBuildsSourcesHashIsTheScriptsHashOfTheTree)
+{
+    // The hash compiled in (made by the build when a render-time source changes) equals the hash
+    // the script computes now from the source tree: a stale generated header would stamp cost
+    // runs with the wrong sources.
+    const std::string command = std::string("'") + OAS_CMAKE_COMMAND + "' -DOAS_SOURCE_ROOT='" + OAS_SOURCE_DIR +
+                                "' -P '" + OAS_SOURCE_DIR + "/cmake/oas_sources_hash.cmake' 2>&1";
+    std::string output;
+    if (std::FILE* pipe = ::popen(command.c_str(), "r")) {
+        char buf[256];
+        for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) output.append(buf, n);
+        EXPECT_EQ(::pclose(pipe), 0) << command << ": " << output;
+    }
+    while (!output.empty() && output.back() == '\n') output.pop_back();
+    EXPECT_EQ(output.size(), 16u) << output;
+    EXPECT_EQ(output, renderSourcesHash());
+}
+
+TEST(SceneCosts, CommittedCostRunsAreCurrentOrTheFirstScreenSaysTheyAreStale)
+{
+    // A cost run timed on other render-time sources than today's is stale. Today's verdicts may
+    // rest on one only if the first screen says so: the README's answer section and the top of
+    // docs/STUDY.md carry "**Stale cost runs:**" and the command that reruns them; when every
+    // scene's run is current, neither does.
+    const std::filesystem::path root = OAS_SOURCE_DIR;
+    const auto stale = staleCostScenes(readSceneCosts((root / "docs/study/scene_costs.csv").string()));
+    const std::string readme = readText(root / "README.md"), study = readText(root / "docs/STUDY.md");
+    const std::size_t from = readme.find("## Which sampler, at what cost"), to = readme.find("\n## ", from + 1);
+    ASSERT_NE(from, std::string::npos) << "README.md has no answer section";
+    const std::string answer = readme.substr(from, to - from);
+    const std::string studyTop = study.substr(0, study.find("\n|"));  // the text before its first table
+    const std::string marker = "**Stale cost runs:**", rerun = "scripts/study.sh --parts scene-costs";
+    std::string names;
+    for (const auto& scene : stale) names += " " + scene;
+    for (const auto& [name, text] : {std::pair{"README.md's answer section", answer}, std::pair{"docs/STUDY.md's top", studyTop}}) {
+        if (!stale.empty()) {
+            EXPECT_NE(text.find(marker), std::string::npos)
+                << "the cost runs of" << names << " were timed on other sources than this build's (" << renderSourcesHash()
+                << "), and " << name << " does not say " << marker << "; rerun them: " << rerun;
+            EXPECT_NE(text.find(rerun), std::string::npos) << name << " must name the command that reruns them: " << rerun;
+        } else {
+            EXPECT_EQ(text.find(marker), std::string::npos)
+                << "every cost run is current (" << renderSourcesHash() << "), but " << name << " still says " << marker;
+        }
+    }
 }
 
 TEST(SceneCosts, AScenesTimesMustComeFromOneRun)
@@ -211,6 +277,7 @@ TEST_F(SceneCostsGpu, ACostRunTimesEveryMeasuredPointInRounds)
             o.scenesDir = OAS_SCENES_DIR;
             o.rounds = 3;
             o.runId = "test-run";
+            o.commit = "abc";
             return o;
         }(),
         context());
@@ -218,6 +285,8 @@ TEST_F(SceneCostsGpu, ACostRunTimesEveryMeasuredPointInRounds)
     for (const auto& c : rows) {
         EXPECT_EQ(c.rounds, 3u);
         EXPECT_EQ(c.runId, "test-run");
+        EXPECT_EQ(c.commit, "abc");
+        EXPECT_EQ(c.sources, renderSourcesHash());
         EXPECT_GT(c.seconds, 0.0);
         EXPECT_GE(c.se, 0.0);
         EXPECT_FALSE(c.device.empty());
