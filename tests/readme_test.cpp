@@ -116,6 +116,55 @@ TEST(Readme, EmbeddingGuideShowsTheTestedCode)
     EXPECT_EQ(expectSnippetsAreTested(blocks, "docs/EMBEDDING.md"), (std::set<std::string>{"cmake", "glsl", "c", "cpp"}));
 }
 
+/// The rows of the first markdown table after `heading` in `text`, cells trimmed.
+std::vector<std::vector<std::string>> tableAfter(const std::string& text, const std::string& heading)
+{
+    std::vector<std::vector<std::string>> rows;
+    std::istringstream in(text.substr(text.find(heading)));
+    bool inTable = false;
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("|", 0) != 0) {
+            if (inTable) break;
+            continue;
+        }
+        inTable = true;
+        if (line.find("---") != std::string::npos) continue;
+        std::vector<std::string> cells;
+        std::istringstream cellsIn(line.substr(1));
+        for (std::string cell; std::getline(cellsIn, cell, '|');) {
+            const auto first = cell.find_first_not_of(' '), last = cell.find_last_not_of(' ');
+            cells.push_back(first == std::string::npos ? "" : cell.substr(first, last - first + 1));
+        }
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+TEST(Readme, TheAnswerTableIsStudysShortAnswer)
+{
+    // README's "Which sampler, at what cost" table is docs/STUDY.md's short answer, copied by hand
+    // with the budgets' notes and the device column left out (the text above it names the device):
+    // every scene, budget, verdict and ratio must be the same.
+    const std::string root = OAS_SOURCE_DIR;
+    const auto readme = tableAfter(readFile(root + "/README.md"), "## Which sampler, at what cost");
+    const auto study = tableAfter(readFile(root + "/docs/STUDY.md"), "## The short answer");
+    ASSERT_GE(study.size(), 2u) << "docs/STUDY.md has no short-answer table";
+    ASSERT_EQ(readme.size(), study.size()) << "README's answer table and STUDY.md's differ in their rows";
+    auto shorten = [](std::string cell) {
+        for (const std::string note : {" (Sobol's 128 spp)", " (≈ 4096 spp)"})
+            if (const auto at = cell.find(note); at != std::string::npos) cell.erase(at, note.size());
+        const std::string at = " at ≈ ";
+        if (const auto where = cell.find(at); where != std::string::npos) cell.replace(where, at.size(), " ≈ ");
+        return cell;
+    };
+    for (std::size_t r = 1; r < study.size(); ++r) {
+        ASSERT_GE(study[r].size(), 6u);
+        ASSERT_EQ(readme[r].size(), 6u) << "README row " << r;
+        for (std::size_t c = 0; c < 6; ++c)
+            EXPECT_EQ(readme[r][c], shorten(study[r][c])) << "README's answer table, row " << r << ", column " << c + 1;
+    }
+}
+
 TEST(Readme, TheCheckCatchesADriftedLine)
 {
     // Negative control: a snippet line that is not in a tested file is found.
