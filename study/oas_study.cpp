@@ -27,6 +27,7 @@
 #include "scene_study.hpp"
 #include "spectrum.hpp"
 #include "integrands.hpp"
+#include "oas_render_sources.h"  // generated: OAS_RENDER_SOURCES_PATHS
 #include "section_io.hpp"
 #include "stats.hpp"
 
@@ -64,7 +65,7 @@ std::string sourceCommit()
     };
     const std::string commit = output(git + "rev-parse --short=12 HEAD");
     if (commit.empty()) return commit;
-    const bool dirty = !output(git + "status --porcelain -- shaders host study/scene_costs.cpp study/tracer_cache.hpp").empty();
+    const bool dirty = !output(git + "status --porcelain -- " + OAS_RENDER_SOURCES_PATHS).empty();
     return dirty ? commit + "-dirty" : commit;
 }
 
