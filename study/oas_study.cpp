@@ -250,6 +250,11 @@ int main(int argc, char** argv)
     double sceneRelSe = 0.1, sceneExtraSeconds = -1;
     app.add_option("--cost-rounds", costRounds, "scene-costs: rounds of every (sampler, spp) point (3)")
         ->check(CLI::Range(3u, 1000u));
+    std::vector<std::string> costDevices = {"gpu", "cpu"};
+    app.add_option("--cost-devices", costDevices,
+                   "scene-costs: the devices to time each scene on, one run each: gpu (the Vulkan tracer) and/or cpu "
+                   "(the CPU twin, as oas-render --device cpu) (default: both)")
+        ->check(CLI::IsMember({"gpu", "cpu"}));
     app.add_option(
            "--parts", parts,
            "parts to run: analytic pairs spectra cost scenes scene-costs (default: all; scene-costs "
@@ -488,11 +493,17 @@ int main(int argc, char** argv)
             for (const auto& record : records) {
                 if (!sceneNames.empty() && std::find(sceneNames.begin(), sceneNames.end(), record.name) == sceneNames.end())
                     continue;
-                co.runId = record.name + "-" + timestamp();
-                double pipelineSeconds = 0;
-                const auto rows = measureSceneCosts(record, measurements, studySamplers(), co, device(), &pipelineSeconds);
-                fresh.insert(fresh.end(), rows.begin(), rows.end());
-                builds.add({record.name, co.runId, fmtG(pipelineSeconds, 4)});
+                for (const auto& deviceName : costDevices) {
+                    co.device = deviceName == "cpu" ? CostDevice::CpuTwin : CostDevice::Gpu;
+                    co.cpuThreads = threads;
+                    co.runId = record.name + (deviceName == "cpu" ? "-cpu-" : "-") + timestamp();
+                    double pipelineSeconds = 0;
+                    const auto rows = measureSceneCosts(record, measurements, studySamplers(), co,
+                                                        co.device == CostDevice::Gpu ? &device() : nullptr,
+                                                        &pipelineSeconds);
+                    fresh.insert(fresh.end(), rows.begin(), rows.end());
+                    if (co.device == CostDevice::Gpu) builds.add({record.name, co.runId, fmtG(pipelineSeconds, 4)});
+                }
             }
             if (fresh.empty()) throw std::invalid_argument("--scene: none of the given scenes has measurements in " + csvPath);
             const auto kept = std::filesystem::exists(costPath) ? readSceneCosts(costPath) : std::vector<SceneCost>{};

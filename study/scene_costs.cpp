@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -68,13 +69,20 @@ std::vector<SceneCost> readSceneCosts(const std::string& path)
     return out;
 }
 
+CostDevice costDeviceOf(const SceneCost& row)
+{
+    return row.device == kCpuTwinDeviceName ? CostDevice::CpuTwin : CostDevice::Gpu;
+}
+
+const char* costDeviceLabel(CostDevice device) { return device == CostDevice::CpuTwin ? "CPU twin" : "GPU"; }
+
 std::vector<SceneCost> mergeSceneCosts(const std::vector<SceneCost>& kept, const std::vector<SceneCost>& fresh)
 {
-    std::set<std::string> freshScenes;
-    for (const auto& c : fresh) freshScenes.insert(c.scene);
+    std::set<std::pair<std::string, CostDevice>> freshRuns;
+    for (const auto& c : fresh) freshRuns.insert({c.scene, costDeviceOf(c)});
     std::vector<SceneCost> out;
     for (const auto& c : kept)
-        if (!freshScenes.count(c.scene)) out.push_back(c);
+        if (!freshRuns.count({c.scene, costDeviceOf(c)})) out.push_back(c);
     out.insert(out.end(), fresh.begin(), fresh.end());
     return out;
 }
@@ -93,17 +101,18 @@ double costRunSeconds(const std::vector<SceneCost>& sceneRows, const std::string
     return nearest->spp == spp ? nearest->seconds : nearest->seconds / nearest->spp * spp;
 }
 
-std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const std::string& scene)
+std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const std::string& scene, CostDevice device)
 {
     std::vector<SceneCost> out;
     for (const auto& c : costs)
-        if (c.scene == scene) {
+        if (c.scene == scene && costDeviceOf(c) == device) {
             if (!out.empty() && c.runId != out.front().runId)
                 throw std::runtime_error("scene_costs.csv: scene " + scene + " has times from runs " + out.front().runId +
                                          " and " + c.runId +
                                          ": times from different runs are not comparable; rerun the scene's cost "
                                          "part (oas-study --parts scene-costs --scene " +
-                                         scene + ")");
+                                         scene + " --cost-devices " +
+                                         (device == CostDevice::CpuTwin ? "cpu" : "gpu") + ")");
             out.push_back(c);
         }
     return out;
@@ -138,8 +147,10 @@ SceneCost summarizeTimes(const std::vector<double>& seconds)
 
 std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::vector<SceneMeasurement>& measurements,
                                          const std::vector<SamplerSpec>& samplers, const SceneCostOptions& o,
-                                         oas::vk::Context& context, double* pipelineSeconds)
+                                         oas::vk::Context* context, double* pipelineSeconds)
 {
+    const bool onCpu = o.device == CostDevice::CpuTwin;
+    if (!onCpu && !context) throw std::invalid_argument("scene costs on the GPU need a Vulkan device");
     if (o.rounds < 3) throw std::invalid_argument("cost rounds: valid 3 or more (alternated rounds need repeats)");
     std::string file;
     for (const auto& c : studyScenes())
@@ -167,22 +178,41 @@ std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::v
     }
     if (points.empty()) throw std::invalid_argument("scene " + record.name + " has no measured points to time");
 
-    TracerCache cache(context, data, plan);
-    std::vector<oas::Pattern> patterns;
-    for (const auto& p : points) patterns.push_back(p.pattern);
-    cache.prepare(patterns);
-    if (pipelineSeconds) *pipelineSeconds = cache.buildSeconds();
-    std::fprintf(stderr, "scene costs %s: %zu points x %u rounds, %zu pipelines built in %.1f s (excluded)\n",
-                 record.name.c_str(), points.size(), o.rounds, cache.size(), cache.buildSeconds());
+    // The GPU's pipelines are all built (and warmed up) before the first round; the CPU twin has none.
+    std::optional<TracerCache> cache;
+    if (!onCpu) {
+        cache.emplace(*context, data, plan);
+        std::vector<oas::Pattern> patterns;
+        for (const auto& p : points) patterns.push_back(p.pattern);
+        cache->prepare(patterns);
+    }
+    const double buildSeconds = cache ? cache->buildSeconds() : 0.0;
+    if (pipelineSeconds) *pipelineSeconds = buildSeconds;
+    std::fprintf(stderr, "scene costs %s on %s: %zu points x %u rounds, %zu pipelines built in %.1f s (excluded)\n",
+                 record.name.c_str(), costDeviceLabel(o.device), points.size(), o.rounds, cache ? cache->size() : 0,
+                 buildSeconds);
+    oas::render::Accumulation cpuSums(record.width, record.height);
 
     using Clock = std::chrono::steady_clock;
     for (std::uint32_t round = 0; round < o.rounds; ++round) {
         const auto roundStart = Clock::now();
         for (auto& p : points) {
-            auto& tracer = cache.get(p.pattern);
+            const std::uint32_t seed = 0x5eed0000u + round;
+            if (onCpu) {
+                // As `oas-render --device cpu` renders: the twin's batch size, all workers.
+                cpuSums = oas::render::Accumulation(record.width, record.height);
+                const auto start = Clock::now();
+                oas::render::forEachBatch(record.width, record.height, p.spp, oas::render::kCpuSamplesPerBatch, seed,
+                                          [&](const oas::render::SampleBatch& b) {
+                                              oas::render::traceCpu(data, plan, p.pattern, b, cpuSums, o.cpuThreads);
+                                          });
+                p.times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
+                continue;
+            }
+            auto& tracer = cache->get(p.pattern);
             tracer.clear();
             const auto start = Clock::now();
-            oas::render::forEachBatch(record.width, record.height, p.spp, tracer.samplesPerBatch(), 0x5eed0000u + round,
+            oas::render::forEachBatch(record.width, record.height, p.spp, tracer.samplesPerBatch(), seed,
                                       [&](const oas::render::SampleBatch& b) { tracer.trace(b); });
             p.times.push_back(std::chrono::duration<double>(Clock::now() - start).count());
         }
@@ -197,7 +227,7 @@ std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::v
         c.spp = p.spp;
         c.runId = o.runId;
         c.machine = o.machine;
-        c.device = context.deviceName();
+        c.device = onCpu ? std::string(kCpuTwinDeviceName) : context->deviceName();
         c.date = o.date;
         c.commit = o.commit;
         c.sources = renderSourcesHash();

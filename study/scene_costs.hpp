@@ -25,11 +25,23 @@ const std::vector<std::string>& sceneCostColumns();
 void writeSceneCosts(const std::string& path, const std::vector<SceneCost>& costs);
 /// Throws std::runtime_error naming the file, row and column for a missing column or a bad number.
 std::vector<SceneCost> readSceneCosts(const std::string& path);
-/// `kept` without the scenes that `fresh` has, then `fresh`.
+/// The two devices a scene is timed on: the GPU tracer (in CI and on this machine, lavapipe) and
+/// the C++ twin (`oas-render --device cpu`, what a user without a GPU runs). The samplers' relative
+/// costs differ between them (the twin fetches OA values in vectorized runs, lavapipe loads storage
+/// buffers one lane at a time), so each has its own cost run and its own equal-time verdicts.
+enum class CostDevice { Gpu, CpuTwin };
+/// The `device` column of the CPU twin's rows (a GPU row holds the Vulkan device's name).
+inline constexpr const char* kCpuTwinDeviceName = "CPU twin";
+CostDevice costDeviceOf(const SceneCost& row);
+/// "lavapipe/GPU" or "CPU twin": how tables name a device kind.
+const char* costDeviceLabel(CostDevice device);
+
+/// `kept` without the (scene, device kind) runs that `fresh` has, then `fresh`.
 std::vector<SceneCost> mergeSceneCosts(const std::vector<SceneCost>& kept, const std::vector<SceneCost>& fresh);
-/// The scene's rows, all of one run. Throws std::runtime_error when they come from several runs
-/// (times from different runs are not comparable); empty when the scene has none.
-std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const std::string& scene);
+/// The scene's rows timed on `device`, all of one run. Throws std::runtime_error when they come
+/// from several runs (times from different runs are not comparable); empty when there are none.
+std::vector<SceneCost> costsOfScene(const std::vector<SceneCost>& costs, const std::string& scene,
+                                    CostDevice device = CostDevice::Gpu);
 
 /// The seconds one render of (sampler, spp) costs by a scene's cost run (`sceneRows`, costsOfScene):
 /// the point's mean; for a count the run did not time, the sampler's seconds per spp at its timed
@@ -49,13 +61,17 @@ struct SceneCostOptions {
     std::string scenesDir = "scenes";
     std::uint32_t rounds = 3;  ///< at least 3
     std::string runId, machine, date, commit;
+    CostDevice device = CostDevice::Gpu;
+    unsigned cpuThreads = 0;  ///< CPU twin workers (0: all cores, as `oas-render --device cpu`)
 };
 
 /// Times every (sampler, spp) point that `measurements` hold for `record`'s scene, at the
-/// record's resolution, in options.rounds rounds. `pipelineSeconds` receives the build time of the
-/// scene's pipelines (excluded from the times). Progress goes to stderr.
+/// record's resolution, in options.rounds rounds, on options.device: the GPU tracer on `context`
+/// (required then), or the CPU twin (`context` unused, may be null). `pipelineSeconds` receives
+/// the build time of the scene's pipelines (excluded from the times; 0 on the CPU twin). Progress
+/// goes to stderr.
 std::vector<SceneCost> measureSceneCosts(const SceneRecord& record, const std::vector<SceneMeasurement>& measurements,
                                          const std::vector<SamplerSpec>& samplers, const SceneCostOptions& options,
-                                         oas::vk::Context& context, double* pipelineSeconds = nullptr);
+                                         oas::vk::Context* context, double* pipelineSeconds = nullptr);
 
 }  // namespace oas::study

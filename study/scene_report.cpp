@@ -163,8 +163,10 @@ void writeMethod(const SceneTables& tables, std::ostream& md)
        << "- Time: wall-clock of a render's dispatches, pipeline build excluded, from the scene's cost run: every "
           "(sampler, spp) point rendered once per round, all points in the same order in each round, at least 3 "
           "rounds, in one run on one machine (mean ± s.e. over rounds in [`scene_costs.csv`](study/scene_costs.csv), "
-          "whose rows name the run, machine, device and date). The accuracy renders' own times are not used: they "
-          "pool runs and days, and the same machine's speed drifts between them.\n"
+          "whose rows name the run, machine, device and date). Each scene has a cost run per device: the GPU "
+          "tracer's (the tables and plots unless they say otherwise) and, where measured, the CPU twin's "
+          "(`oas-render --device cpu`: its own equal-time and cost tables). The accuracy renders' own times are "
+          "not used: they pool runs and days, and the same machine's speed drifts between them.\n"
        << "- Data: [`scenes.csv`](study/scenes.csv) (every render), [`scene_curves.csv`](study/scene_curves.csv) "
           "(per point: mean, s.e., n, capped), [`scene_references.csv`](study/scene_references.csv) (per scene: "
           "reference, settings, device); figures "
@@ -496,6 +498,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
                          const std::vector<SamplerSpec>& samplers, const std::vector<SceneCost>& costs)
 {
     const detail::SceneTables tables(infos, measurements, samplers, costs);
+    const detail::SceneTables twin(infos, measurements, samplers, costs, CostDevice::CpuTwin);
     std::ostringstream md;
     detail::writeMethod(tables, md);
     detail::writeRuns(tables, md);
@@ -503,7 +506,7 @@ std::string sceneSection(const std::vector<SceneRecord>& infos, const std::vecto
     detail::writeAtPaperCount(tables, md);
     detail::writePaperHighCount(tables, md);
     detail::writeRareEvents(tables, md);
-    const std::string head = detail::writeTimeTables(tables, md);
+    const std::string head = detail::writeTimeTables(tables, twin, md);
     // The short answer goes right below the section's list of settings.
     std::string text = md.str();
     const size_t at = text.find("\n| scene | device |");

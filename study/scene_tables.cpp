@@ -40,11 +40,12 @@ SceneCurve withCostTimes(const SceneCurve& c, const std::vector<SceneCost>& rows
 }  // namespace
 
 SceneTables::SceneTables(const std::vector<SceneRecord>& infos, const std::vector<SceneMeasurement>& measurements,
-                         const std::vector<SamplerSpec>& samplers, const std::vector<SceneCost>& costs)
-    : infos(infos), samplers(samplers), curves(curvesOfRecords(infos, measurements))
+                         const std::vector<SamplerSpec>& samplers, const std::vector<SceneCost>& costs,
+                         CostDevice device)
+    : infos(infos), device(device), samplers(samplers), curves(curvesOfRecords(infos, measurements))
 {
     for (const auto& info : infos) {
-        const auto rows = costsOfScene(costs, info.name);
+        const auto rows = costsOfScene(costs, info.name, device);
         if (rows.empty()) continue;
         costRunOf[info.name] = rows.front();
         for (const auto& c : curves)

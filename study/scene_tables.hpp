@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "scene_costs.hpp"
 #include "scene_study.hpp"
 
 namespace oas::study::detail {
@@ -18,10 +19,13 @@ inline const Estimate kNoEstimate{std::numeric_limits<double>::quiet_NaN(), std:
 /// What every table of the section reads: the records, the samplers, their curves, and the same
 /// curves timed by each scene's cost run.
 struct SceneTables {
+    /// Times from the cost runs on `device` (scene_costs.hpp: the GPU tracer or the CPU twin).
     SceneTables(const std::vector<SceneRecord>& infos, const std::vector<SceneMeasurement>& measurements,
-                const std::vector<SamplerSpec>& samplers, const std::vector<SceneCost>& costs);
+                const std::vector<SamplerSpec>& samplers, const std::vector<SceneCost>& costs,
+                CostDevice device = CostDevice::Gpu);
 
     const std::vector<SceneRecord>& infos;
+    CostDevice device;
     const std::vector<SamplerSpec>& samplers;
     std::vector<SceneCurve> curves;  ///< curvesOfRecords(infos, measurements)
     /// Every time in the equal-time, time-to-target and cost tables comes from the scene's one cost
@@ -55,8 +59,10 @@ Estimate ratioTo(const Estimate& a, const Estimate& b, bool same);
 std::string verdictCell(const Estimate& a, const Estimate& b);
 
 /// The tables at equal time (scene_time_tables.cpp): error at equal time, time to a target error,
-/// sampler cost inside a frame, and the error images. Returns the short answer (which sampler has
-/// the lowest error at each budget), which sceneSection puts at the top of the section.
-std::string writeTimeTables(const SceneTables& tables, std::ostream& md);
+/// sampler cost inside a frame, and the error images, from the GPU's cost runs (`tables`); error
+/// at equal time and sampler cost again from the CPU twin's (`twin`) where it has cost runs.
+/// Returns the short answer (which sampler has the lowest error at each budget on each device, and
+/// where the devices disagree), which sceneSection puts at the top of the section.
+std::string writeTimeTables(const SceneTables& tables, const SceneTables& twin, std::ostream& md);
 
 }  // namespace oas::study::detail

@@ -22,9 +22,23 @@ std::string noCostRun(const SceneRecord& info)
     return "| " + info.name + " | *no cost run: `oas-study --parts scene-costs --scene " + info.name + "` measures one* |";
 }
 
-/// Error at equal time, at three budgets per scene; returns the short answer.
-std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
+constexpr int kBudgets = 3;
+const char* const kBudgetName[kBudgets] = {"T₁", "T₂", "T₃"};
+
+/// One row of the short answer: the lowest error on a scene at one budget on one device.
+struct AnswerRow {
+    std::string scene;
+    int budget = 0;
+    std::string best;      ///< the sampler with the lowest mean relMSE
+    std::string tiedWith;  ///< the runner-up where compare() does not separate the two; else empty
+    std::string text;      ///< the markdown row
+};
+
+/// Error at equal time, at three budgets per scene, timed on tables.device; returns the short
+/// answer's rows.
+std::vector<AnswerRow> writeEqualTime(const SceneTables& tables, std::ostream& md)
 {
+    const bool twin = tables.device == CostDevice::CpuTwin;
     const auto& infos = tables.infos;
     const auto& samplers = tables.samplers;
     // --- Equal time and time to target ---------------------------------------------------------
@@ -32,17 +46,25 @@ std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
     // at 128 spp, T₂ the largest budget every sampler's curve reaches (the shortest of the
     // samplers' longest renders), T₃ the same over the samplers that rendered the paper's high
     // count (the 4096-spp budget of the 7D and 9D scenes; samplers without it show —).
-    constexpr int kBudgets = 3;
     constexpr double kPaperHighCount = 3969;
-    const char* budgetName[kBudgets] = {"T₁", "T₂", "T₃"};
+    const auto& budgetName = kBudgetName;
     // The comparison the goal rests on is fixed in advance too: BoseCMJ, the OA the chooser picks
     // for these scenes (`--sampler oa`: Bose, CMJ offsets), against Sobol. Picking "the best OA" as
     // the lowest of 6-7 OA means and then testing it would favour a win.
     const std::string goalOa = "BoseCMJ";
     int scenesOa[kBudgets][3] = {};  // per budget: goalOa lower / tie / higher than Sobol
     size_t comparisons = 0;
-    md << "### Error at equal time\n\n"
-       << "relMSE read off each sampler's error-versus-time curve (log-log interpolation between measured points; — "
+    if (twin)
+        md << "### Error at equal time on the CPU twin\n\n"
+           << "The same table with every time from the scene's cost run on the CPU twin (the C++ tracer of "
+              "`oas-render --device cpu`, on all cores), what a user without a GPU runs; the errors are the same "
+              "accuracy renders (the twin runs the same integrator, the shared GLSL compiled as C++, and its images "
+              "agree with the GPU's to float rounding, so its error at a sample count is the GPU's). The samplers' relative "
+              "costs differ between the devices (the twin makes OA values in vectorized runs; lavapipe loads "
+              "storage buffers one lane at a time), so the verdicts may too.\n\n";
+    else
+        md << "### Error at equal time\n\n"
+           << "relMSE read off each sampler's error-versus-time curve (log-log interpolation between measured points; — "
           "where the budget lies outside the sampler's measured range) at three budgets per scene: T₁ Sobol's time at "
           "128 spp, T₂ the largest budget every sampler's curve reaches (the shortest of the samplers' longest "
           "renders), T₃ the same over the samplers that rendered the paper's high count (≥ 3969 spp: the 4096-spp "
@@ -55,7 +77,7 @@ std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
        << "| scene | sampler | relMSE @ T₁ | ÷ Sobol | vs Sobol | relMSE @ T₂ | ÷ Sobol | vs Sobol | relMSE @ T₃ | ÷ Sobol | vs "
           "Sobol |\n"
           "|---|---|---|---|---|---|---|---|---|---|---|\n";
-    std::ostringstream answer;  // the short answer at the top of the section
+    std::vector<AnswerRow> answer;  // the short answer at the top of the section
     for (const auto& info : infos) {
         const SceneCurve* sob = tables.timedCurveOf(info.name, "Sobol");
         if (!sob) {
@@ -136,16 +158,18 @@ std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
                     if (std::abs(std::log(c->seconds[i] / budgets[b])) < gap)
                         gap = std::abs(std::log(c->seconds[i] / budgets[b])), bestSpp = c->spp[i];
             }
-            answer << "| " << info.name << " (" << info.dims << "D) | " << budgetName[b] << " = " << fmtF(budgets[b], 2) << " s"
-                   << (b == 0   ? " (Sobol's 128 spp)"
-                       : b == 2 ? " (≈ 4096 spp)"
-                                : "")
-                   << " | " << bestLabel << " at ≈ " << fmtF(bestSpp, 0) << " spp"
-                   << (separated ? "" : " (tie with " + ranking[b][1].second + ")") << " | "
-                   << fmtRatio(ratioTo(best, sobAt[b], bestLabel == "Sobol")) << " | "
-                   << fmtRatio(ratioTo(best, rndAt, bestLabel == "Random")) << " | "
-                   << (std::isfinite(goalAt[b].mean) ? fmtRatio(ratioOf(goalAt[b], sobAt[b])) : std::string("—")) << " | "
-                   << run.device << ", " << run.machine << ", " << run.date << " |\n";
+            std::ostringstream row;
+            row << "| " << info.name << " (" << info.dims << "D) | " << budgetName[b] << " = " << fmtF(budgets[b], 2) << " s"
+                << (b == 0   ? " (Sobol's 128 spp)"
+                    : b == 2 ? " (≈ 4096 spp)"
+                             : "")
+                << " | " << bestLabel << " at ≈ " << fmtF(bestSpp, 0) << " spp"
+                << (separated ? "" : " (tie with " + ranking[b][1].second + ")") << " | "
+                << fmtRatio(ratioTo(best, sobAt[b], bestLabel == "Sobol")) << " | "
+                << fmtRatio(ratioTo(best, rndAt, bestLabel == "Random")) << " | "
+                << (std::isfinite(goalAt[b].mean) ? fmtRatio(ratioOf(goalAt[b], sobAt[b])) : std::string("—")) << " | "
+                << run.device << ", " << run.machine << ", " << run.date << " |\n";
+            answer.push_back({info.name, b, bestLabel, separated ? std::string() : ranking[b][1].second, row.str()});
         }
     }
     // Goal: on at least two of three scenes the chooser's OA is at or below Sobol at every budget.
@@ -164,12 +188,27 @@ std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
             goalTime = "open: " + std::to_string(tables.costRunOf.size()) + " of " + std::to_string(infos.size()) +
                        " scenes have a cost run";
     }
+    md << "\n**Goal (at equal time" << (twin ? " on the CPU twin" : "") << ", " << goalOa << " below Owen-scrambled Sobol on at least two of three scenes at "
+       << "every budget): " << goalTime << "** — " << goalOa << " lower / tie / higher than Sobol:";
+    for (int b = 0; b < kBudgets; ++b)
+        md << (b ? "; " : " ") << scenesOa[b][0] << " / " << scenesOa[b][1] << " / " << scenesOa[b][2] << " of " << infos.size()
+           << " scenes at " << budgetName[b];
+    md << ". The table holds " << comparisons << " comparisons with Sobol in all.\n\n";
+    return answer;
+}
+
+/// The short answer: both devices' rows of each scene and budget next to each other, and one line
+/// naming where the two devices' lowest-error samplers differ.
+std::string shortAnswer(const SceneTables& tables, const std::vector<AnswerRow>& gpu, const std::vector<AnswerRow>& twin)
+{
+    const std::string goalOa = "BoseCMJ";
     std::ostringstream head;
     head << "### The short answer: lowest error for the same render time\n\n"
          << "Per scene and render-time budget (T₁ = Sobol's time at 128 spp, T₂ = the longest every sampler "
             "reached, T₃ = the longest every sampler with a count ≥ 3969 reached, i.e. the 4096-spp budget; seconds "
-            "from the scene's one cost run on the device "
-            "and machine named): the sampler with the lowest mean relMSE at that time, its error ÷ Owen-scrambled "
+            "from the scene's one cost run on the device and machine named"
+         << (twin.empty() ? "" : ": the GPU tracer (Vulkan) and the CPU twin (`oas-render --device cpu`), each its own run")
+         << "): the sampler with the lowest mean relMSE at that time, its error ÷ Owen-scrambled "
             "Sobol's and ÷ Random's (± s.e.; below 1: better), and "
          << goalOa
          << " (the chooser's OA) ÷ Sobol. \"tie with\" where the runner-up is within twice the combined s.e. The "
@@ -177,14 +216,33 @@ std::string writeEqualTime(const SceneTables& tables, std::ostream& md)
             "| scene | budget | lowest error | ÷ Sobol | ÷ Random | "
          << goalOa
          << " ÷ Sobol | timed on |\n"
-            "|---|---|---|---|---|---|---|\n"
-         << answer.str() << "\n";
-    md << "\n**Goal (at equal time, " << goalOa << " below Owen-scrambled Sobol on at least two of three scenes at "
-       << "every budget): " << goalTime << "** — " << goalOa << " lower / tie / higher than Sobol:";
-    for (int b = 0; b < kBudgets; ++b)
-        md << (b ? "; " : " ") << scenesOa[b][0] << " / " << scenesOa[b][1] << " / " << scenesOa[b][2] << " of " << infos.size()
-           << " scenes at " << budgetName[b];
-    md << ". The table holds " << comparisons << " comparisons with Sobol in all.\n\n";
+            "|---|---|---|---|---|---|---|\n";
+    std::vector<std::string> disagreements;
+    for (const auto& info : tables.infos)
+        for (int b = 0; b < kBudgets; ++b) {
+            const AnswerRow *onGpu = nullptr, *onTwin = nullptr;
+            for (const auto& r : gpu)
+                if (r.scene == info.name && r.budget == b) onGpu = &r;
+            for (const auto& r : twin)
+                if (r.scene == info.name && r.budget == b) onTwin = &r;
+            if (onGpu) head << onGpu->text;
+            if (onTwin) head << onTwin->text;
+            if (onGpu && onTwin && onGpu->best != onTwin->best) {
+                auto named = [](const AnswerRow& r) { return r.best + (r.tiedWith.empty() ? "" : " (tie with " + r.tiedWith + ")"); };
+                disagreements.push_back(info.name + " at " + kBudgetName[b] + ": " + named(*onGpu) + " on the GPU, " +
+                                        named(*onTwin) + " on the CPU twin");
+            }
+        }
+    head << "\n";
+    if (!twin.empty()) {
+        if (disagreements.empty())
+            head << "The two devices agree: the same sampler has the lowest error on every scene at every budget.\n\n";
+        else {
+            head << "Where the devices disagree (" << disagreements.size() << " of " << gpu.size() << "): ";
+            for (size_t i = 0; i < disagreements.size(); ++i) head << (i ? "; " : "") << disagreements[i];
+            head << ".\n\n";
+        }
+    }
     return head.str();
 }
 
@@ -243,11 +301,14 @@ void writeSamplerCost(const SceneTables& tables, std::ostream& md)
     const auto& infos = tables.infos;
     const auto& samplers = tables.samplers;
     // --- Sampler cost inside a frame -----------------------------------------------------------
-    md << "\n### Sampler cost inside a frame\n\n"
+    if (tables.device == CostDevice::CpuTwin) {
+        md << "\n### Sampler cost inside a frame on the CPU twin\n\nThe same from the CPU twin's cost runs.\n\n| sampler |";
+    } else
+        md << "\n### Sampler cost inside a frame\n\n"
        << "Time per sample per pixel from a least-squares line of render time on spp over each sampler's "
           "ladder; the share is the part of the frame time above independent (Random) sampling, "
           "1 − t_Random / t_sampler, i.e. what generating that sampler's numbers costs inside the path "
-          "tracer. Times from each scene's cost run.\n\n| sampler |";
+          "tracer. Times from each scene's cost run on the GPU.\n\n| sampler |";
     for (const auto& info : infos) md << " " << info.name << " Mpaths/s | share |";
     md << "\n|---|";
     for (size_t i = 0; i < infos.size(); ++i) md << "---|---|";
@@ -284,13 +345,16 @@ void writeErrorImages(std::ostream& md)
 
 }  // namespace
 
-std::string writeTimeTables(const SceneTables& tables, std::ostream& md)
+std::string writeTimeTables(const SceneTables& tables, const SceneTables& twin, std::ostream& md)
 {
-    std::string head = writeEqualTime(tables, md);
+    const bool twinTimed = !twin.costRunOf.empty();
+    const auto gpuAnswer = writeEqualTime(tables, md);
+    const auto twinAnswer = twinTimed ? writeEqualTime(twin, md) : std::vector<AnswerRow>{};
     writeTimeToTarget(tables, md);
     writeSamplerCost(tables, md);
+    if (twinTimed) writeSamplerCost(twin, md);
     writeErrorImages(md);
-    return head;
+    return shortAnswer(tables, gpuAnswer, twinAnswer);
 }
 
 }  // namespace oas::study::detail

@@ -150,6 +150,15 @@ TEST(SceneCosts, FileRoundTripsAndMergeReplacesWholeScenes)
     EXPECT_EQ(costsOfScene(merged, "cornell7d").front().runId, "run-c");
     EXPECT_EQ(costsOfScene(merged, "interior_deep").front().runId, "run-b");
     EXPECT_TRUE(costsOfScene(merged, "blue_spheres9d").empty());
+    // Each scene has a run per device kind: a fresh GPU run replaces the scene's GPU run only,
+    // and the CPU twin's run is read apart (mixing the two would throw: different runs).
+    auto twin = costs("run-cpu");
+    for (auto& c : twin) c.device = kCpuTwinDeviceName;
+    const auto both = mergeSceneCosts(mergeSceneCosts(merged, twin), costs("run-d"));
+    ASSERT_EQ(both.size(), 18u);
+    EXPECT_EQ(costsOfScene(both, "cornell7d").front().runId, "run-d");
+    EXPECT_EQ(costsOfScene(both, "cornell7d", CostDevice::CpuTwin).front().runId, "run-cpu");
+    EXPECT_TRUE(costsOfScene(both, "interior_deep", CostDevice::CpuTwin).empty());
     std::filesystem::remove_all(dir);
 }
 
@@ -266,6 +275,36 @@ TEST(SceneCosts, EqualTimeTablesUseTheCostRunAndNothingElse)
     EXPECT_NE(with.find("cost device, cost machine, 2026-12-03 22:00 UTC"), std::string::npos);
 }
 
+// Each device's cost run gives its own equal-time verdicts, and the short answer puts both
+// devices' rows side by side and names where they disagree. Here the CPU twin makes Random 10x
+// cheaper than Sobol (Sobol's error is a third of Random's at equal spp), so at equal time Random
+// wins on the twin (0.3x Sobol) while Sobol wins on the GPU (equal costs).
+TEST(SceneCosts, EachDeviceHasItsOwnVerdictsAndTheAnswerSaysWhereTheyDisagree)
+{
+    const std::vector<SamplerSpec> samplers = {specOf("Sobol"), specOf("Random")};
+    auto all = costs("run-gpu");
+    for (auto c : costs("run-cpu")) {
+        c.device = kCpuTwinDeviceName;
+        if (c.sampler == "Random") c.seconds /= 10;
+        all.push_back(c);
+    }
+    const std::string md = sceneSection({cornellRecord()}, measurements(), samplers, all);
+    const std::string answer = md.substr(md.find("### The short answer"), md.find("### Error at equal time") - md.find("### The short answer"));
+    EXPECT_NE(answer.find("| Sobol at ≈ 128 spp | 1.00"), std::string::npos) << answer;
+    EXPECT_NE(answer.find("| Random at ≈ 4096 spp | 0.30"), std::string::npos) << answer;  // its timed point nearest 1280 spp
+    EXPECT_NE(answer.find("| CPU twin, cost machine, 2026-12-03 22:00 UTC |"), std::string::npos) << answer;
+    EXPECT_NE(answer.find("Where the devices disagree (3 of 3): cornell7d at T₁: Sobol on the GPU, Random on the CPU twin"),
+              std::string::npos)
+        << answer;
+    EXPECT_NE(md.find("### Error at equal time on the CPU twin"), std::string::npos);
+    EXPECT_NE(md.find("### Sampler cost inside a frame on the CPU twin"), std::string::npos);
+    EXPECT_NE(md.find("**Goal (at equal time on the CPU twin, "), std::string::npos);
+    // With the GPU's run alone there is nothing to compare: no twin tables, no disagreement line.
+    const std::string gpuOnly = sceneSection({cornellRecord()}, measurements(), samplers, costs("run-gpu"));
+    EXPECT_EQ(gpuOnly.find("### Error at equal time on the CPU twin"), std::string::npos);
+    EXPECT_EQ(gpuOnly.find("devices disagree"), std::string::npos);
+}
+
 class SceneCostsGpu : public oas::test::GpuTest {};
 
 TEST_F(SceneCostsGpu, ACostRunTimesEveryMeasuredPointInRounds)
@@ -280,7 +319,7 @@ TEST_F(SceneCostsGpu, ACostRunTimesEveryMeasuredPointInRounds)
             o.commit = "abc";
             return o;
         }(),
-        context());
+        &context());
     ASSERT_EQ(rows.size(), 6u);  // 2 samplers × 3 counts
     for (const auto& c : rows) {
         EXPECT_EQ(c.rounds, 3u);
@@ -298,6 +337,27 @@ TEST_F(SceneCostsGpu, ACostRunTimesEveryMeasuredPointInRounds)
                          o.rounds = 2;
                          return o;
                      }(),
-                     context()),
+                     &context()),
                  std::invalid_argument);
+}
+
+// The CPU twin's cost run needs no Vulkan device: a machine without a GPU can time the scenes as
+// `oas-render --device cpu` renders them, and its rows say which device they timed.
+TEST(SceneCosts, TheCpuTwinTimesEveryPointWithoutAVulkanDevice)
+{
+    SceneCostOptions o;
+    o.scenesDir = OAS_SCENES_DIR;
+    o.runId = "cpu-run";
+    o.device = CostDevice::CpuTwin;
+    o.cpuThreads = 1;
+    const auto rows = measureSceneCosts(cornellRecord(), measurements(), {specOf("Sobol"), specOf("Random")}, o, nullptr);
+    ASSERT_EQ(rows.size(), 6u);  // 2 samplers × 3 counts
+    for (const auto& c : rows) {
+        EXPECT_EQ(c.device, kCpuTwinDeviceName);
+        EXPECT_EQ(costDeviceOf(c), CostDevice::CpuTwin);
+        EXPECT_EQ(c.rounds, 3u);
+        EXPECT_GT(c.seconds, 0.0);
+    }
+    o.device = CostDevice::Gpu;  // the GPU tracer without a device is refused, not dereferenced
+    EXPECT_THROW(measureSceneCosts(cornellRecord(), measurements(), {specOf("Sobol")}, o, nullptr), std::invalid_argument);
 }
