@@ -338,7 +338,8 @@ TEST(Embedding, LibraryFilesDeclareOnlyPrefixedNamesAndNoInterface)
     std::vector<std::string> fileNames;
     for (auto& f : files) fileNames.push_back(f.filename().string());
     for (const char* expected : {"oas.glsl", "oas_hash.glsl", "oas_intdiv.glsl", "oas_permute.glsl", "oas_strata.glsl",
-                                 "oas_gf.glsl", "oas_pattern.glsl", "oas_oa.glsl", "oas_baselines.glsl", "oas_draw.glsl"})
+                                 "oas_gf.glsl", "oas_pattern.glsl", "oas_oa.glsl", "oas_baselines.glsl", "oas_draw.glsl",
+                                 "oas_faure.glsl"})
         EXPECT_NE(std::find(fileNames.begin(), fileNames.end(), expected), fileNames.end()) << expected << " not scanned";
 
     std::vector<Finding> findings;

@@ -74,6 +74,14 @@
 //         the grid's reciprocals once per (pixel, pass, dimension); index < N within the pass,
 //         passSeed = oas_pass_seed(pixelSeed, pass).
 //         The two dimensions of a pair share one cell (oas_pair_cell) per sample.
+//   A progressive sequence (oas_faure.glsl), standalone for now: not yet an OasPattern.
+//   OasFaure oas_faure_make(OasField f, uint digits)        base q = f.q, indices below q^digits
+//   uint     oas_faure_key(uint pixelSeed, uint block, uint element)
+//   float    oas_faure_value(OasFaure fa, uint element, uint index, uint key)
+//         The generalized Faure (0,s)-sequence in base q, nested-scrambled: dimension `element`
+//         (< q, one field element per dimension, s <= q) of sample `index`. Every aligned block
+//         of q^m consecutive samples is a (0,m,s)-net, so any prefix of lambda q^t samples is an
+//         OA of strength t; its leading digit is Bush's OA.
 //
 // EXAMPLE (one invocation per pixel, looping over all of its samples; the library adds no loop
 // iterations, so the loops may be as long as the renderer's own budget allows)
@@ -159,6 +167,7 @@
 #include "oas_pattern.glsl"
 #include "oas_oa.glsl"
 #include "oas_baselines.glsl"
+#include "oas_faure.glsl"
 
 /// oas_sample for the baseline samplers alone (construction >= OAS_RANDOM): a caller that handles
 /// the OA constructions through the fast path calls this for the rest, so the OA code is compiled

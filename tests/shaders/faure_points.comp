@@ -1,0 +1,22 @@
+#version 450
+// FaureGpu: the library's progressive sampler (oas_faure_value) on a list of (sample index,
+// field element, key) triples, one invocation per value; the CPU twin computes the same list.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
+#define OAS_NO_SOBOL
+#include "oas/oas.glsl"
+
+layout(local_size_x = 64) in;
+layout(push_constant) uniform Params {
+    OasFaure faure;
+    uint count;
+} params;
+layout(std430, binding = 0) readonly buffer Triples { uint triples[]; };  // index, element, key
+layout(std430, binding = 1) writeonly buffer Values { float values[]; };
+
+void main()
+{
+    uint k = gl_GlobalInvocationID.x;
+    if (k >= params.count) return;
+    values[k] = oas_faure_value(params.faure, triples[3u * k + 1u], triples[3u * k], triples[3u * k + 2u]);
+}
