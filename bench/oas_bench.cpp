@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "apps/cli_main.hpp"
+#include "faure_bench_spv.h"
 #include "oas/generate_gpu.hpp"
+#include "oas/glsl_compat.hpp"
 #include "oas/oa_columns.hpp"
 #include "oas/pattern.hpp"
 
@@ -90,6 +92,93 @@ void printSpecialisationCost(oas::vk::Context& context, std::uint32_t pixels, st
 }
 
 }  // namespace
+
+/// The progressive sampler (shaders/oas/oas_faure.glsl; not yet a pattern): every dimension of
+/// every sample of a row of pixels, base q with K digits (q^K samples), against Bose CMJ (N = 121)
+/// in the same run, alternated per repeat: on the CPU twin (one thread; Faure as scalar calls,
+/// Bose through generateCpu's vectorized OaColumns) and on the GPU (a kernel of the same layout,
+/// bench/faure_bench.comp, against the specialised generation kernel). Issue goal: >= 0.5x Bose
+/// CMJ per value on both.
+void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std::uint32_t dims, int repeats)
+{
+    std::printf("\nProgressive Faure (oas_faure_value, standalone) vs Bose CMJ 121, M values/s, median of %d:\n", repeats);
+    std::printf("%-22s %8s %12s %12s %8s %12s %12s %8s\n", "base, digits", "spp", "CPU faure", "CPU bose", "ratio",
+                "GPU faure", "GPU bose", "ratio");
+    oas::PatternRequest req;
+    req.sampler = "bose";
+    req.spp = 121;
+    req.dims = dims;
+    const oas::Pattern bose = oas::makePattern(req);
+    struct Push {
+        oas::glsl::OasFaure faure;
+        std::uint32_t pixels, spp, dims, frameSeed;
+    };
+    std::unique_ptr<oas::vk::ComputePipeline> pipeline;
+    if (context)
+        pipeline = std::make_unique<oas::vk::ComputePipeline>(*context, faure_bench_spv, sizeof(faure_bench_spv), 1, sizeof(Push));
+    for (const auto& [q, digits] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{{11, 2}, {11, 3}, {11, 4}, {7, 4}}) {
+        oas::glsl::OasField f;
+        f.p = q;
+        f.k = 1;
+        f.q = q;
+        f.poly = 0;
+        const oas::Divisor byP = oas::makeDivisor(q);
+        f.recipP = byP.recip;
+        f.shiftP = byP.shift;
+        const oas::glsl::OasFaure fa = oas::glsl::oas_faure_make(f, digits);
+        const std::uint32_t spp = fa.strata;
+        // About 2^21 values per CPU run and 2^23 per GPU run, whatever the count.
+        const std::uint32_t cpuPixels = std::max<std::uint32_t>(1, (1u << 21) / (spp * dims));
+        const std::uint32_t gpuPixels = std::max<std::uint32_t>(1, (1u << 23) / (spp * dims));
+        std::vector<float> out(std::size_t(std::max(cpuPixels, gpuPixels)) * std::max(spp, 121u) * dims);
+        auto faureCpu = [&] {
+            for (std::uint32_t px = 0; px < cpuPixels; ++px) {
+                const std::uint32_t seed = oas::pixelSeed(px, 0, 1);
+                for (std::uint32_t i = 0; i < spp; ++i)
+                    for (std::uint32_t d = 0; d < dims; ++d)
+                        out[(std::size_t(px) * spp + i) * dims + d] =
+                            oas::glsl::oas_faure_value(fa, d % q, i, oas::glsl::oas_faure_key(seed, d / q, d % q));
+            }
+        };
+        const std::uint32_t bosePixels = std::max<std::uint32_t>(1, (1u << 21) / (121 * dims));
+        const oas::SampleRequest boseCpu = onePass(bose, bosePixels, dims);
+        std::vector<double> cpuRatio, cpuFaure, cpuBose;
+        for (int i = 0; i < repeats; ++i) {
+            const double a = double(cpuPixels) * spp * dims / medianSeconds(1, faureCpu) / 1e6;
+            const double b = double(bosePixels) * 121 * dims /
+                             medianSeconds(1, [&] { oas::generateCpu(bose, boseCpu, out.data(), 1); }) / 1e6;
+            cpuFaure.push_back(a), cpuBose.push_back(b), cpuRatio.push_back(a / b);
+        }
+        auto median = [](std::vector<double> v) {
+            std::sort(v.begin(), v.end());
+            return v[v.size() / 2];
+        };
+        std::vector<double> gpuRatio, gpuFaure, gpuBose;
+        if (context && gpu) {
+            oas::vk::Buffer values(*context, std::size_t(gpuPixels) * spp * dims * sizeof(float));
+            const Push push{fa, gpuPixels, spp, dims, 1};
+            oas::vk::Buffer* buffers[] = {&values};
+            auto faureGpu = [&] {
+                context->dispatch(*pipeline, buffers, &push, sizeof(push), (gpuPixels * spp + 63) / 64);
+            };
+            const oas::SampleRequest boseGpu = onePass(bose, std::max<std::uint32_t>(1, (1u << 23) / (121 * dims)), dims);
+            faureGpu();
+            gpu->run(bose, boseGpu);  // warm-up
+            for (int i = 0; i < repeats; ++i) {
+                const double a = double(gpuPixels) * spp * dims / medianSeconds(1, faureGpu) / 1e6;
+                const double b = double(boseGpu.width) * 121 * dims / medianSeconds(1, [&] { gpu->run(bose, boseGpu); }) / 1e6;
+                gpuFaure.push_back(a), gpuBose.push_back(b), gpuRatio.push_back(a / b);
+            }
+        }
+        const std::string label = "q = " + std::to_string(q) + ", K = " + std::to_string(digits);
+        std::printf("%-22s %8u %12.1f %12.1f %8.2f", label.c_str(), spp, median(cpuFaure), median(cpuBose), median(cpuRatio));
+        if (!gpuRatio.empty())
+            std::printf(" %12.1f %12.1f %8.2f\n", median(gpuFaure), median(gpuBose), median(gpuRatio));
+        else
+            std::printf(" %12s %12s %8s\n", "-", "-", "-");
+        std::fflush(stdout);
+    }
+}
 
 int main(int argc, char** argv)
 {
@@ -214,6 +303,8 @@ int main(int argc, char** argv)
             }
         }
         if (gpu && only.empty()) printSpecialisationCost(*context, pixels, dims, repeats);
+        if (only.empty() || std::string("faure").find(only) != std::string::npos)
+            printProgressiveCost(context.get(), gpu.get(), dims, repeats);
         return 0;
     });
 }

@@ -22,6 +22,9 @@ std::vector<SamplerSpec> studySamplers()
         {"ZeroTwo-pad", "zerotwo", "cmj", 0, false, true},
         {"Halton", "halton", "cmj", 0, false, true},
         {"Sobol", "sobol", "cmj", 0, false, true},
+        // What GPU renderers ship: Burley's padded 4D Owen-scrambled Sobol with hashed shuffling
+        // (Cycles' Sobol-Burley), the production baseline of the equal-time answer.
+        {"SobolBurley", "sobol-burley", "cmj", 0, false, true},
     };
 }
 

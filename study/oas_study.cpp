@@ -452,6 +452,7 @@ int main(int argc, char** argv)
             // match. The extra budget (the default or the one given) is split by the shard's share of
             // the samplers, so that a scene's shards together spend the scene's budget.
             so.samplerShard = !only.empty();
+            so.shardTakesKeptSettings = so.samplerShard && !customScenes;
             so.topUp = sceneTopUp;
             so.costRunCosts = sceneRenderCost == "cost-run";
             so.mustJoin = sceneJoin;

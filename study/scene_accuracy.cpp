@@ -180,24 +180,30 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             }
         }
         SamplerSpec sobolSpec{"Sobol", "sobol", "cmj", 0, false, true};
-        // The reference has 16x the samples of the scene's largest count (a power of two, so that
-        // each half is a Sobol count), unless the caller chose one.
-        std::uint32_t largest = 0;
-        for (const auto& r : runs)
-            for (const auto& [spp, pattern] : r) largest = std::max(largest, spp);
-        std::uint32_t referenceSpp = o.referenceSpp;
-        if (referenceSpp == 0) {
-            referenceSpp = 256;
-            while (referenceSpp < 16ull * largest && referenceSpp < (1u << 24)) referenceSpp *= 2;
-        }
-        info.referenceSpp = referenceSpp;
-        info.largestSpp = largest;
         // A sampler shard joins the scene's earlier record (and reuses its reference image) when
         // the settings match; otherwise the scene starts over.
         const std::string refExr = imgDir + "/" + info.name + "_reference.exr";
         const SceneRecord* kept = nullptr;
         for (const auto& r : keptRecords)
             if (r.name == info.name) kept = &r;
+        const bool takeKept = o.shardTakesKeptSettings && kept;
+        if (takeKept) {
+            info.minTrials = kept->minTrials;
+            info.maxTrials = kept->maxTrials;
+        }
+        // The reference has 16x the samples of the scene's largest count (a power of two, so that
+        // each half is a Sobol count), unless the caller chose one or the shard joins a record.
+        std::uint32_t largest = 0;
+        for (const auto& r : runs)
+            for (const auto& [spp, pattern] : r) largest = std::max(largest, spp);
+        std::uint32_t referenceSpp = o.referenceSpp;
+        if (referenceSpp == 0 && takeKept) referenceSpp = kept->referenceSpp;
+        if (referenceSpp == 0) {
+            referenceSpp = 256;
+            while (referenceSpp < 16ull * largest && referenceSpp < (1u << 24)) referenceSpp *= 2;
+        }
+        info.referenceSpp = referenceSpp;
+        info.largestSpp = largest;
         bool joined = false;
         // A shard that cannot join starts the scene over, with a note; a top-up stops instead (it
         // was asked to add to the earlier renders, not to replace them).
@@ -285,8 +291,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         for (std::uint32_t k = 0; k < samplers.size(); ++k)
             for (const auto& [spp, pattern] : runs[k]) points.push_back({k, spp, &pattern});
         AdaptiveOptions ao;
-        ao.nMin = o.minTrials;
-        ao.nMax = std::max(o.minTrials, o.maxTrials);
+        ao.nMin = info.minTrials;
+        ao.nMax = info.maxTrials;
         ao.relTarget = o.relSeTarget;
         std::uint32_t lastSampler = ~0u;
         const size_t firstOfScene = all.size();

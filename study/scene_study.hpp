@@ -99,6 +99,12 @@ struct SceneStudyOptions {
     /// A sampler shard that must join the scene's kept record and reference (a Dask task): when it
     /// cannot, the run stops with an error instead of starting the scene over.
     bool mustJoin = false;
+    /// A sampler shard run with the full mode's defaults (no scene option given): it takes the
+    /// kept record's reference count and renders-per-point range, so that it can join it. Without
+    /// this its reference count would follow the shard's own largest count (16x it, a power of
+    /// two): a shard of baselines, whose largest count is 4096, computed 65536 where the record's
+    /// reference, set by the Addelman-Kempthorne count 4418, has 131072, and started the scene over.
+    bool shardTakesKeptSettings = false;
 };
 
 /// One scene's run, a row of scene_references.csv: its size, crop and reference, and the settings,

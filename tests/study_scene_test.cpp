@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -807,6 +808,32 @@ TEST_F(StudyGpu, TinyCostRunMeasuresEverySampler)
     ASSERT_EQ(rows.size(), 3u);
     EXPECT_NE(rows[2].find("bose q=11"), std::string::npos);  // 121 spp: the count nearest 128
     EXPECT_NE(md.find("| BoseCMJ |"), std::string::npos);
+}
+
+// A sampler shard run with the full mode's defaults takes the kept record's reference count and
+// renders-per-point range: its own default reference would follow its own largest count (a shard
+// of baselines computed 65536 where the scene's record, set by Addelman-Kempthorne's 4418, had
+// 131072) and the scene would start over, dropping every other sampler's rows.
+TEST_F(StudyGpu, AShardWithDefaultSettingsTakesTheKeptReferenceAndRendersPerPoint)
+{
+    SceneStudyOptions o = tinyCornell("oas_shard_takes_kept", 32, 2048);  // default would be 16 x 32 = 512
+    const std::filesystem::path dir = o.outDir;
+    o.samplerShard = true;
+    runSceneStudy(o, {specOf("Random")}, context());
+    const auto first = readSceneRecords((dir / "scene_references.csv").string()).at(0);
+    ASSERT_EQ(first.referenceSpp, 2048u);
+    o.referenceSpp = 0;  // the defaults: 512 and 2 to 3 renders, neither the record's
+    o.maxTrials = 3;
+    o.mustJoin = true;  // an error instead of a restart where it cannot join
+    EXPECT_THROW(runSceneStudy(o, {specOf("Sobol")}, context()), std::invalid_argument);
+    o.shardTakesKeptSettings = true;
+    runSceneStudy(o, {specOf("Sobol")}, context());
+    const auto joined = readSceneRecords((dir / "scene_references.csv").string()).at(0);
+    EXPECT_EQ(joined.referenceSpp, 2048u);
+    EXPECT_EQ(joined.maxTrials, first.maxTrials);
+    std::set<std::string> samplers;
+    for (const auto& m : readSceneMeasurements((dir / "scenes.csv").string())) samplers.insert(m.sampler);
+    EXPECT_EQ(samplers, (std::set<std::string>{"Random", "Sobol"}));
 }
 
 TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
