@@ -305,6 +305,11 @@ int main(int argc, char** argv)
                    "scene's cost run (scene_costs.csv), so that the renders made depend on the settings alone "
                    "(measured)")
         ->check(CLI::IsMember({"measured", "cost-run"}));
+    std::string rebuildReference;
+    app.add_option("--scene-rebuild-reference", rebuildReference,
+                   "with --only: where a scene's kept reference image is missing, render it again with this sampler "
+                   "(the record's count and seeds) and join only if it is the same image (its error estimate equal "
+                   "to 9 digits)");
     app.add_flag("--scene-join", sceneJoin,
                  "with --only: a sampler shard that must join the scene's kept record and reference (an error "
                  "instead of starting the scene over)");
@@ -453,6 +458,9 @@ int main(int argc, char** argv)
             // the samplers, so that a scene's shards together spend the scene's budget.
             so.samplerShard = !only.empty();
             so.shardTakesKeptSettings = so.samplerShard && !customScenes;
+            so.rebuildReferenceWith = rebuildReference;
+            if (!rebuildReference.empty() && !so.samplerShard)
+                throw std::invalid_argument("--scene-rebuild-reference: valid only with --only (a sampler shard)");
             so.topUp = sceneTopUp;
             so.costRunCosts = sceneRenderCost == "cost-run";
             so.mustJoin = sceneJoin;

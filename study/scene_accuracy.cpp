@@ -204,7 +204,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         }
         info.referenceSpp = referenceSpp;
         info.largestSpp = largest;
-        bool joined = false;
+        bool joined = false, rebuildReference = false;
         // A shard that cannot join starts the scene over, with a note; a top-up stops instead (it
         // was asked to add to the earlier renders, not to replace them).
         auto cannotJoin = [&](const std::string& why) {
@@ -222,8 +222,11 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             std::string why;
             if (!sameSceneSettings(*kept, asKept, &why)) {
                 cannotJoin("its earlier rows were measured with other settings (" + why + ")");
+            } else if (!fs::exists(refExr) && !o.rebuildReferenceWith.empty()) {
+                rebuildReference = true;  // rendered again below, and compared with the record
             } else if (!fs::exists(refExr)) {
-                cannotJoin("its earlier reference image " + refExr + " is missing");
+                cannotJoin("its earlier reference image " + refExr +
+                           " is missing (--scene-rebuild-reference renders it again)");
             } else {
                 reference = oas::image::readExr(refExr);
                 joined = reference.width == info.width && reference.height == info.height;
@@ -232,6 +235,7 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
                                ", not " + std::to_string(info.width) + "x" + std::to_string(info.height));
             }
         }
+        if (rebuildReference) sobolSpec.sampler = o.rebuildReferenceWith;
         const oas::Pattern refPattern = oas::makePattern(patternRequest(sobolSpec, referenceSpp / 2, plan.sampleDims));
         if (!joined) allPatterns.push_back(refPattern);
         const auto tp = Clock::now();
@@ -274,6 +278,24 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             // of every measured render, which all have other seeds).
             if (info.rareCount)
                 info.rarePixels = formatPixels(rarePixelsOf(a.image, b.image, reference, info.rareCount), info.width);
+            // A rebuilt reference joins the record only if it is the record's image: its own error
+            // estimate, a function of every pixel of both halves, equal to 9 digits.
+            if (rebuildReference) {
+                const bool same = fmtG(info.refErr, 9) == fmtG(kept->refErr, 9) &&
+                                  fmtG(info.refErrCrop, 9) == fmtG(kept->refErrCrop, 9);
+                if (!same)
+                    throw std::invalid_argument("--scene-rebuild-reference: " + info.name + "'s reference rendered with " +
+                                                o.rebuildReferenceWith + " has error " + fmtG(info.refErr, 9) + " / " +
+                                                fmtG(info.refErrCrop, 9) + ", the record's " + fmtG(kept->refErr, 9) +
+                                                " / " + fmtG(kept->refErrCrop, 9) + ": not the same image");
+                std::fprintf(stderr, "[scenes] %s: reference rebuilt with %s, the record's image (error %s)\n",
+                             info.name.c_str(), o.rebuildReferenceWith.c_str(), fmtG(info.refErr, 9).c_str());
+                info.refErrSe = kept->refErrSe;
+                info.refErrCropSe = kept->refErrCropSe;
+                info.refSeconds = kept->refSeconds;
+                info.rarePixels = kept->rarePixels;
+                joined = true;
+            }
             oas::image::writePngPreview(imgDir + "/" + info.name + "_reference.png", reference);
             // Kept for later sampler shards of the scene (exact floats: the same relMSE for each).
             oas::image::writeExr(refExr, reference,

@@ -105,6 +105,12 @@ struct SceneStudyOptions {
     /// two): a shard of baselines, whose largest count is 4096, computed 65536 where the record's
     /// reference, set by the Addelman-Kempthorne count 4418, has 131072, and started the scene over.
     bool shardTakesKeptSettings = false;
+    /// A sampler shard whose scene's kept reference image is missing renders it again with this
+    /// sampler (the record's count and seeds) and joins only if the image's own error estimate
+    /// equals the record's to 9 digits, i.e. it is the same image; empty: such a shard cannot join.
+    /// For records made before the images were kept, with a sampler whose values have not changed
+    /// since (e.g. sobol-owen, the per-bit Owen scramble "sobol" was until 2026-12-06).
+    std::string rebuildReferenceWith;
 };
 
 /// One scene's run, a row of scene_references.csv: its size, crop and reference, and the settings,

@@ -836,6 +836,29 @@ TEST_F(StudyGpu, AShardWithDefaultSettingsTakesTheKeptReferenceAndRendersPerPoin
     EXPECT_EQ(samplers, (std::set<std::string>{"Random", "Sobol"}));
 }
 
+// A shard whose scene's reference image is gone can render it again, and joins only if it is the
+// same image: with the record's sampler it is (renders are deterministic); with another it stops.
+TEST_F(StudyGpu, AMissingReferenceIsRebuiltOnlyAsTheSameImage)
+{
+    SceneStudyOptions o = tinyCornell("oas_shard_rebuild", 32, 1024);
+    const std::filesystem::path dir = o.outDir;
+    o.samplerShard = true;
+    runSceneStudy(o, {specOf("Random")}, context());
+    const auto exr = dir / "scenes" / "cornell7d_reference.exr";
+    const oas::image::Image original = oas::image::readExr(exr.string());
+    std::filesystem::remove(exr);
+    o.mustJoin = true;
+    EXPECT_THROW(runSceneStudy(o, {specOf("Sobol")}, context()), std::invalid_argument);  // no image, no rebuild
+    o.rebuildReferenceWith = "sobol-owen";  // another scramble: another image
+    EXPECT_THROW(runSceneStudy(o, {specOf("Sobol")}, context()), std::invalid_argument);
+    o.rebuildReferenceWith = "sobol";
+    runSceneStudy(o, {specOf("Sobol")}, context());
+    EXPECT_EQ(oas::image::readExr(exr.string()).rgba, original.rgba);
+    std::set<std::string> samplers;
+    for (const auto& m : readSceneMeasurements((dir / "scenes.csv").string())) samplers.insert(m.sampler);
+    EXPECT_EQ(samplers, (std::set<std::string>{"Random", "Sobol"}));
+}
+
 TEST_F(StudyGpu, ASamplerShardReusesTheReferenceAndReplacesOnlyItsSamplers)
 {
     SceneStudyOptions o = tinyCornell("oas_sampler_shards", 128, 512);  // the equal-time budget is Sobol at 128
