@@ -22,6 +22,7 @@
 #include "gpu_test_support.hpp"
 #include "oas/glsl_compat.hpp"
 #include "oas/pattern.hpp"
+#include "library_field.hpp"
 #include "test_cases.hpp"
 #include "textbook_oa.hpp"
 #include "vk/context.hpp"
@@ -31,6 +32,7 @@ namespace {
 using oas::glsl::OasFaure;
 using oas::glsl::OasField;
 using oas::test::ipow;
+using oas::test::libraryField;
 
 struct Base {
     std::uint32_t p, k;
@@ -39,19 +41,6 @@ struct Base {
 
 /// The bases of the properties: primes small and large, binary and odd extension fields.
 std::vector<Base> bases() { return {{2, 1}, {3, 1}, {2, 2}, {5, 1}, {7, 1}, {2, 3}, {3, 2}, {31, 1}}; }
-
-OasField libraryField(std::uint32_t p, std::uint32_t k)
-{
-    OasField f;
-    f.p = p;
-    f.k = k;
-    f.q = ipow(p, k);
-    f.poly = oas::primitivePolynomial(p, k);
-    const oas::Divisor byP = oas::makeDivisor(p);
-    f.recipP = byP.recip;
-    f.shiftP = byP.shift;
-    return f;
-}
 
 /// The most index digits a base allows: q^K <= 2^24 and K <= OAS_FAURE_MAX_DIGITS.
 std::uint32_t maxDigits(std::uint32_t q)

@@ -15,6 +15,7 @@
 
 #include "oas/glsl_compat.hpp"
 #include "oas/pattern.hpp"
+#include "library_field.hpp"
 #include "test_cases.hpp"
 #include "textbook_oa.hpp"
 
@@ -32,6 +33,7 @@ void PrintTo(const FieldCase& c, std::ostream* os)
 }
 
 using oas::test::ipow;
+using oas::test::libraryField;
 
 std::vector<FieldCase> fieldCases()
 {
@@ -50,19 +52,6 @@ std::vector<FieldCase> fieldCases()
 std::string caseName(const testing::TestParamInfo<FieldCase>& info)
 {
     return "GF" + std::to_string(info.param.p) + "_" + std::to_string(info.param.k);
-}
-
-OasField libraryField(std::uint32_t p, std::uint32_t k)
-{
-    OasField f;
-    f.p = p;
-    f.k = k;
-    f.q = ipow(p, k);
-    f.poly = oas::primitivePolynomial(p, k);
-    const oas::Divisor byP = oas::makeDivisor(p);
-    f.recipP = byP.recip;
-    f.shiftP = byP.shift;
-    return f;
 }
 
 /// Prime factors of n (distinct).
