@@ -115,7 +115,8 @@ void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std
     };
     std::unique_ptr<oas::vk::ComputePipeline> pipeline;
     if (context)
-        pipeline = std::make_unique<oas::vk::ComputePipeline>(*context, faure_bench_spv, sizeof(faure_bench_spv), 1, sizeof(Push));
+        pipeline = std::make_unique<oas::vk::ComputePipeline>(*context, faure_bench_spv, sizeof(faure_bench_spv), 1,
+                                                              sizeof(Push));
     for (const auto& [q, digits] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{{11, 2}, {11, 3}, {11, 4}, {7, 4}}) {
         oas::glsl::OasField f;
         f.p = q;

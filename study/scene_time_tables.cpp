@@ -188,8 +188,8 @@ std::vector<AnswerRow> writeEqualTime(const SceneTables& tables, std::ostream& m
             goalTime = "open: " + std::to_string(tables.costRunOf.size()) + " of " + std::to_string(infos.size()) +
                        " scenes have a cost run";
     }
-    md << "\n**Goal (at equal time" << (twin ? " on the CPU twin" : "") << ", " << goalOa << " below Owen-scrambled Sobol on at least two of three scenes at "
-       << "every budget): " << goalTime << "** — " << goalOa << " lower / tie / higher than Sobol:";
+    md << "\n**Goal (at equal time" << (twin ? " on the CPU twin" : "") << ", " << goalOa
+       << " below Owen-scrambled Sobol on at least two of three scenes at every budget): " << goalTime << "** — " << goalOa << " lower / tie / higher than Sobol:";
     for (int b = 0; b < kBudgets; ++b)
         md << (b ? "; " : " ") << scenesOa[b][0] << " / " << scenesOa[b][1] << " / " << scenesOa[b][2] << " of " << infos.size()
            << " scenes at " << budgetName[b];
@@ -236,7 +236,9 @@ std::string shortAnswer(const SceneTables& tables, const std::vector<AnswerRow>&
                                               " on the CPU twin, a tie on both)");
                     continue;
                 }
-                auto named = [](const AnswerRow& r) { return r.best + (r.tiedWith.empty() ? "" : " (tie with " + r.tiedWith + ")"); };
+                auto named = [](const AnswerRow& r) {
+                    return r.best + (r.tiedWith.empty() ? "" : " (tie with " + r.tiedWith + ")");
+                };
                 disagreements.push_back(info.name + " at " + kBudgetName[b] + ": " + named(*onGpu) + " on the GPU, " +
                                         named(*onTwin) + " on the CPU twin");
             }

@@ -117,7 +117,8 @@ TEST(Faure, DigitsAreTheGeneratorMatricesTimesTheIndexDigits)
 // index, column = element, as the library's Bush construction computes it.
 TEST(Faure, TheLeadingDigitIsBushsOrthogonalArray)
 {
-    for (const auto& [q, t] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{{3, 3}, {4, 3}, {5, 2}, {7, 3}, {8, 2}, {9, 3}, {31, 2}}) {
+    const std::vector<std::pair<std::uint32_t, std::uint32_t>> cases = {{3, 3}, {4, 3}, {5, 2}, {7, 3}, {8, 2}, {9, 3}, {31, 2}};
+    for (const auto& [q, t] : cases) {
         oas::PatternRequest r;
         r.sampler = "bush";
         r.spp = ipow(q, t);
@@ -140,7 +141,8 @@ std::vector<std::vector<std::uint32_t>> strata(const OasFaure& fa, const std::ve
 {
     std::vector<std::vector<std::uint32_t>> out(elements.size(), std::vector<std::uint32_t>(n));
     for (std::size_t j = 0; j < elements.size(); ++j)
-        for (std::uint32_t i = 0; i < n; ++i) out[j][i] = oas::glsl::oas_faure_stratum(fa, elements[j], first + i, keys[j]).stratum;
+        for (std::uint32_t i = 0; i < n; ++i)
+            out[j][i] = oas::glsl::oas_faure_stratum(fa, elements[j], first + i, keys[j]).stratum;
     return out;
 }
 

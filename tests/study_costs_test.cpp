@@ -289,7 +289,8 @@ TEST(SceneCosts, EachDeviceHasItsOwnVerdictsAndTheAnswerSaysWhereTheyDisagree)
         all.push_back(c);
     }
     const std::string md = sceneSection({cornellRecord()}, measurements(), samplers, all);
-    const std::string answer = md.substr(md.find("### The short answer"), md.find("### Error at equal time") - md.find("### The short answer"));
+    const std::size_t from = md.find("### The short answer"), to = md.find("### Error at equal time");
+    const std::string answer = md.substr(from, to - from);
     EXPECT_NE(answer.find("| Sobol at ≈ 128 spp | 1.00"), std::string::npos) << answer;
     EXPECT_NE(answer.find("| Random at ≈ 4096 spp | 0.30"), std::string::npos) << answer;  // its timed point nearest 1280 spp
     EXPECT_NE(answer.find("| CPU twin, cost machine, 2026-12-03 22:00 UTC |"), std::string::npos) << answer;
