@@ -488,6 +488,7 @@ int main(int argc, char** argv)
             co.date = today();
             co.commit = sourceCommit();
             co.machine = cpuModel() + " (" + std::to_string(std::thread::hardware_concurrency()) + " threads)";
+            co.cpuThreads = threads;
             std::vector<SceneCost> fresh;
             // Pipeline builds per cost run; the rows of scenes not rerun now are kept, as in scene_costs.csv.
             CsvTable builds({"scene", "run_id", "pipelines_seconds"});
@@ -504,7 +505,6 @@ int main(int argc, char** argv)
                     continue;
                 for (const auto& deviceName : costDevices) {
                     co.device = deviceName == "cpu" ? CostDevice::CpuTwin : CostDevice::Gpu;
-                    co.cpuThreads = threads;
                     co.runId = record.name + (deviceName == "cpu" ? "-cpu-" : "-") + timestamp();
                     double pipelineSeconds = 0;
                     const auto rows = measureSceneCosts(record, measurements, studySamplers(), co,

@@ -33,7 +33,7 @@ enum class CostDevice { Gpu, CpuTwin };
 /// The `device` column of the CPU twin's rows (a GPU row holds the Vulkan device's name).
 inline constexpr const char* kCpuTwinDeviceName = "CPU twin";
 CostDevice costDeviceOf(const SceneCost& row);
-/// "lavapipe/GPU" or "CPU twin": how tables name a device kind.
+/// "GPU" or "CPU twin": how progress messages name a device kind.
 const char* costDeviceLabel(CostDevice device);
 
 /// `kept` without the (scene, device kind) runs that `fresh` has, then `fresh`.
