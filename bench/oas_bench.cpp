@@ -131,7 +131,9 @@ void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std
         // About 2^21 values per CPU run and 2^23 per GPU run, whatever the count.
         const std::uint32_t cpuPixels = std::max<std::uint32_t>(1, (1u << 21) / (spp * dims));
         const std::uint32_t gpuPixels = std::max<std::uint32_t>(1, (1u << 23) / (spp * dims));
-        std::vector<float> out(std::size_t(std::max(cpuPixels, gpuPixels)) * std::max(spp, 121u) * dims);
+        const std::uint32_t bosePixels = std::max<std::uint32_t>(1, (1u << 21) / (121 * dims));
+        // The CPU runs' values (the GPU's stay in their buffer).
+        std::vector<float> out(std::max(std::size_t(cpuPixels) * spp, std::size_t(bosePixels) * 121) * dims);
         auto faureCpu = [&] {
             for (std::uint32_t px = 0; px < cpuPixels; ++px) {
                 const std::uint32_t seed = oas::pixelSeed(px, 0, 1);
@@ -141,7 +143,6 @@ void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std
                             oas::glsl::oas_faure_value(fa, d % q, i, oas::glsl::oas_faure_key(seed, d / q, d % q));
             }
         };
-        const std::uint32_t bosePixels = std::max<std::uint32_t>(1, (1u << 21) / (121 * dims));
         const oas::SampleRequest boseCpu = onePass(bose, bosePixels, dims);
         std::vector<double> cpuRatio, cpuFaure, cpuBose;
         for (int i = 0; i < repeats; ++i) {
