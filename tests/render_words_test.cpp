@@ -1,0 +1,203 @@
+// The path tracer's exact per-pixel sums on every shipped scene, on both devices, against a record
+// of them: a refactor guard. Its reason is that nothing changed. A restructuring of the integrator
+// (the path as an explicit state record stepped one vertex at a time; a wavefront of kernels over
+// queues of such records) must give every scene the same words as the megakernel before it; the
+// GPU-vs-CPU comparisons (RenderGpu.AgreesWithTheCpuReference) stay the independent check that the
+// words are right. The GPU and the CPU twin differ in the last bits of sin, cos and sqrt, so each
+// device has its own record.
+//
+// The record (tests/data/render_words.json) says at which commit it was made. A change that is
+// meant to change images (a new effect, a fixed bug) rewrites it, and its commit says why:
+//   OAS_RECORD_RENDER_WORDS=1 build/tests/render_words_test
+// writes the file from this build instead of comparing (and says so in the test's output).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "gpu_test_support.hpp"
+#include "render/plan.hpp"
+#include "render/scene_data.hpp"
+#include "render/tracer.hpp"
+#include "scene/scene.hpp"
+
+namespace {
+
+using namespace oas;
+
+/// One recorded render: a scene at a small width, a sampler, samples [0, spp) of every pixel.
+struct RenderCase {
+    std::string scene;    ///< file name under scenes/
+    std::string sampler;  ///< oas::PatternRequest::sampler
+    std::uint32_t width;  ///< the height keeps the scene's aspect ratio
+    std::uint32_t spp;
+    std::uint32_t samplesPerDispatch;  ///< the GPU's batches (the CPU traces them all at once)
+
+    std::string key() const
+    {
+        return scene + " " + sampler + " " + std::to_string(width) + "px " + std::to_string(spp) + "spp";
+    }
+};
+
+/// Every shipped scene (so that a new scene must be recorded), each with an OA render over two
+/// passes of its pattern, split across dispatches, and a one-sample random render.
+std::vector<RenderCase> renderCases()
+{
+    std::vector<std::string> scenes;
+    for (const auto& entry : std::filesystem::directory_iterator(OAS_SCENES_DIR))
+        if (entry.path().extension() == ".json") scenes.push_back(entry.path().filename().string());
+    std::sort(scenes.begin(), scenes.end());
+    std::vector<RenderCase> cases;
+    for (const auto& scene : scenes) {
+        cases.push_back({scene, "oa", 12, 32, 13});
+        cases.push_back({scene, "random", 16, 1, 1});
+    }
+    return cases;
+}
+
+/// FNV-1a (64-bit) over the words' little-endian bytes: a short, exact fingerprint of the sums.
+std::string fingerprint(const std::vector<std::uint32_t>& words)
+{
+    std::uint64_t h = 0xcbf29ce484222325ull;
+    for (std::uint32_t w : words)
+        for (int b = 0; b < 4; ++b) {
+            h ^= (w >> (8 * b)) & 0xffu;
+            h *= 0x100000001b3ull;
+        }
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+    return text;
+}
+
+struct Prepared {
+    scene::Scene scene;
+    render::DimensionPlan plan;
+    render::SceneData data;
+    Pattern pattern;
+    render::SampleBatch batch;
+};
+
+Prepared prepare(const RenderCase& c)
+{
+    Prepared p{scene::loadScene(std::string(OAS_SCENES_DIR) + "/" + c.scene), {}, {}, {}, {}};
+    p.scene.height = std::max(1u, p.scene.height * c.width / p.scene.width);
+    p.scene.width = c.width;
+    p.plan = render::planDimensions(p.scene);
+    p.data = render::flattenScene(p.scene);
+    PatternRequest request;
+    request.sampler = c.sampler;
+    request.spp = c.spp;
+    request.dims = p.plan.sampleDims;
+    p.pattern = makePattern(request);
+    p.batch.width = p.scene.width;
+    p.batch.height = p.scene.height;
+    p.batch.count = c.spp;
+    p.batch.seed = 11;
+    return p;
+}
+
+const std::string kRecordPath = std::string(OAS_TEST_DATA_DIR) + "/render_words.json";
+
+bool recording()
+{
+    const char* v = std::getenv("OAS_RECORD_RENDER_WORDS");
+    return v && std::string(v) == "1";
+}
+
+/// The source tree's commit (and "+changes" when it has uncommitted ones), for the record.
+std::string headCommit()
+{
+    const std::string git = "git -C \"" + std::string(OAS_SCENES_DIR) + "\" ";
+    std::string commit;
+    if (FILE* p = popen((git + "rev-parse --short HEAD 2>/dev/null").c_str(), "r")) {
+        char line[64] = {};
+        if (std::fgets(line, sizeof line, p)) commit = line;
+        pclose(p);
+    }
+    while (!commit.empty() && (commit.back() == '\n' || commit.back() == '\r')) commit.pop_back();
+    if (commit.empty()) return "unknown";
+    if (std::system((git + "diff --quiet HEAD -- 2>/dev/null").c_str()) != 0) commit += "+changes";
+    return commit;
+}
+
+/// Compares this build's fingerprints for `device` with the record, or (recording) writes them
+/// into the record beside the other device's.
+void checkAgainstRecord(const std::string& device, const std::map<std::string, std::string>& fingerprints)
+{
+    nlohmann::json record;
+    if (std::ifstream in(kRecordPath); in) record = nlohmann::json::parse(in);
+    if (recording()) {
+        record["why"] = "A refactor guard: the exact sums of every shipped scene before a change that must not change them.";
+        record["rewrite"] = "OAS_RECORD_RENDER_WORDS=1 build/tests/render_words_test";
+        record[device] = fingerprints;
+        record["recorded_at"] = headCommit();
+        const std::string temporary = kRecordPath + ".tmp";
+        std::ofstream(temporary) << record.dump(2) << "\n";
+        std::filesystem::rename(temporary, kRecordPath);
+        std::printf("RECORDED (not compared): %zu %s renders into %s\n", fingerprints.size(), device.c_str(),
+                    kRecordPath.c_str());
+        return;
+    }
+    ASSERT_TRUE(record.contains(device)) << kRecordPath << " has no " << device << " renders";
+    const auto& recorded = record[device];
+    for (const auto& [key, value] : fingerprints) {
+        ASSERT_TRUE(recorded.contains(key)) << device << " render \"" << key << "\" is not in " << kRecordPath
+                                            << " (a new scene? record it: " << record.value("rewrite", "") << ")";
+        EXPECT_EQ(recorded[key].get<std::string>(), value)
+            << device << " render \"" << key << "\": its sums are not the recorded ones. If the change was meant to "
+            << "change images, rewrite the record and say why in the commit; if not, it changed the tracer's results";
+    }
+    EXPECT_EQ(recorded.size(), fingerprints.size()) << kRecordPath << " records renders this test no longer makes";
+}
+
+/// The render's words are not all zero (a black image would make the guard vacuous for it).
+void expectLight(const render::Accumulation& a, const std::string& what)
+{
+    double total = 0;
+    for (std::size_t i = 0; i < a.pixelCount(); ++i) total += render::meanValue(a.pixel(i), 0);
+    EXPECT_GT(total, 0.0) << what << " renders black: its fingerprint would guard nothing";
+}
+
+TEST(RenderWords, TheCpuTwinsSumsAreTheRecordedOnes)
+{
+    std::map<std::string, std::string> fingerprints;
+    for (const auto& c : renderCases()) {
+        auto p = prepare(c);
+        render::Accumulation sums(p.scene.width, p.scene.height);
+        render::traceCpu(p.data, p.plan, p.pattern, p.batch, sums);
+        expectLight(sums, c.key());
+        fingerprints[c.key()] = fingerprint(sums.words);
+    }
+    checkAgainstRecord("cpu", fingerprints);
+}
+
+class RenderWordsGpu : public test::GpuTest {};
+
+TEST_F(RenderWordsGpu, TheGpusSumsAreTheRecordedOnes)
+{
+    std::map<std::string, std::string> fingerprints;
+    for (const auto& c : renderCases()) {
+        auto p = prepare(c);
+        render::GpuTracer gpu(context(), p.data, p.plan, p.pattern);
+        for (std::uint32_t first = 0; first < c.spp; first += c.samplesPerDispatch) {
+            p.batch.firstSample = first;
+            p.batch.count = std::min(c.samplesPerDispatch, c.spp - first);
+            gpu.trace(p.batch);
+        }
+        const auto sums = gpu.accumulation();
+        expectLight(sums, c.key());
+        fingerprints[c.key()] = fingerprint(sums.words);
+    }
+    checkAgainstRecord("gpu", fingerprints);
+}
+
+}  // namespace
