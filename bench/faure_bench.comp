@@ -9,6 +9,12 @@
 #define OAS_NO_SOBOL
 #define OAS_STATIC_FIELD_KIND 0u
 #define OAS_STATIC_FIELD_DEGREE 1u
+// K, the sequence's digit count, as a specialization constant (constant_id 0; 0: unspecialized,
+// the library's run-time K).
+layout(constant_id = 0) const uint faureDigits = 0u;
+#ifdef FAURE_BENCH_STATIC_DIGITS
+#define OAS_STATIC_FAURE_DIGITS faureDigits
+#endif
 #include "oas/oas.glsl"
 
 layout(local_size_x = 64) in;
@@ -19,7 +25,9 @@ layout(push_constant) uniform Params {
     uint dims;
     uint frameSeed;
 } params;
-layout(std430, binding = 0) writeonly buffer Values { float values[]; };
+// Written through a storage texel buffer, as the generation kernel writes its values: lavapipe
+// stores texels for all lanes at once, storage-buffer elements one lane at a time.
+layout(binding = 0, r32ui) uniform writeonly uimageBuffer valueTexels;
 
 void main()
 {
@@ -30,7 +38,7 @@ void main()
     uint q = params.faure.field.q;
     for (uint d = 0u; d < params.dims; ++d) {
         uint blockIndex = d / q, element = d - blockIndex * q;
-        values[at * params.dims + d] =
-            oas_faure_value(params.faure, element, sampleIndex, oas_faure_key(pixelSeed, blockIndex, element));
+        float v = oas_faure_value(params.faure, element, sampleIndex, oas_faure_key(pixelSeed, blockIndex, element));
+        imageStore(valueTexels, int(at * params.dims + d), uvec4(floatBitsToUint(v)));
     }
 }

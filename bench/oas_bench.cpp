@@ -12,6 +12,7 @@
 
 #include "apps/cli_main.hpp"
 #include "faure_bench_spv.h"
+#include "faure_bench_static_spv.h"
 #include "oas/generate_gpu.hpp"
 #include "oas/glsl_compat.hpp"
 #include "oas/oa_columns.hpp"
@@ -97,13 +98,14 @@ void printSpecialisationCost(oas::vk::Context& context, std::uint32_t pixels, st
 /// every sample of a row of pixels, base q with K digits (q^K samples), against Bose CMJ (N = 121)
 /// in the same run, alternated per repeat: on the CPU twin (one thread; Faure as scalar calls,
 /// Bose through generateCpu's vectorized OaColumns) and on the GPU (a kernel of the same layout,
-/// bench/faure_bench.comp, against the specialised generation kernel). Issue goal: >= 0.5x Bose
-/// CMJ per value on both.
+/// bench/faure_bench.comp, against the specialised generation kernel; once with K a run-time
+/// value, once with K a specialization constant, OAS_STATIC_FAURE_DIGITS). Issue goal: >= 0.5x
+/// Bose CMJ per value on both.
 void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std::uint32_t dims, int repeats)
 {
     std::printf("\nProgressive Faure (oas_faure_value, standalone) vs Bose CMJ 121, M values/s, median of %d:\n", repeats);
-    std::printf("%-22s %8s %12s %12s %8s %12s %12s %8s\n", "base, digits", "spp", "CPU faure", "CPU bose", "ratio",
-                "GPU faure", "GPU bose", "ratio");
+    std::printf("%-22s %8s %12s %12s %8s %12s %12s %12s %8s %8s\n", "base, digits", "spp", "CPU faure", "CPU bose", "ratio",
+                "GPU faure", "GPU K-spec", "GPU bose", "ratio", "K-spec");
     oas::PatternRequest req;
     req.sampler = "bose";
     req.spp = 121;
@@ -116,7 +118,8 @@ void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std
     std::unique_ptr<oas::vk::ComputePipeline> pipeline;
     if (context)
         pipeline = std::make_unique<oas::vk::ComputePipeline>(*context, faure_bench_spv, sizeof(faure_bench_spv), 1,
-                                                              sizeof(Push));
+                                                              sizeof(Push), oas::vk::ComputePipeline::SpecConstants{},
+                                                              std::vector{oas::vk::BindingKind::UintStorageTexelBuffer});
     for (const auto& [q, digits] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{{11, 2}, {11, 3}, {11, 4}, {7, 4}}) {
         oas::glsl::OasField f;
         f.p = q;
@@ -128,6 +131,12 @@ void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std
         f.shiftP = byP.shift;
         const oas::glsl::OasFaure fa = oas::glsl::oas_faure_make(f, digits);
         const std::uint32_t spp = fa.strata;
+        std::unique_ptr<oas::vk::ComputePipeline> specialised;
+        if (context)
+            specialised = std::make_unique<oas::vk::ComputePipeline>(*context, faure_bench_static_spv,
+                                                                     sizeof(faure_bench_static_spv), 1, sizeof(Push),
+                                                                     oas::vk::ComputePipeline::SpecConstants{{0, digits}},
+                                                                     std::vector{oas::vk::BindingKind::UintStorageTexelBuffer});
         // About 2^21 values per CPU run and 2^23 per GPU run, whatever the count.
         const std::uint32_t cpuPixels = std::max<std::uint32_t>(1, (1u << 21) / (spp * dims));
         const std::uint32_t gpuPixels = std::max<std::uint32_t>(1, (1u << 23) / (spp * dims));
@@ -155,7 +164,7 @@ void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std
             std::sort(v.begin(), v.end());
             return v[v.size() / 2];
         };
-        std::vector<double> gpuRatio, gpuFaure, gpuBose;
+        std::vector<double> gpuRatio, gpuFaure, gpuBose, gpuSpecialised, gpuSpecialisedRatio;
         if (context && gpu) {
             oas::vk::Buffer values(*context, std::size_t(gpuPixels) * spp * dims * sizeof(float));
             const Push push{fa, gpuPixels, spp, dims, 1};
@@ -163,21 +172,28 @@ void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std
             auto faureGpu = [&] {
                 context->dispatch(*pipeline, buffers, &push, sizeof(push), (gpuPixels * spp + 63) / 64);
             };
+            auto faureGpuSpecialised = [&] {
+                context->dispatch(*specialised, buffers, &push, sizeof(push), (gpuPixels * spp + 63) / 64);
+            };
             const oas::SampleRequest boseGpu = onePass(bose, std::max<std::uint32_t>(1, (1u << 23) / (121 * dims)), dims);
             faureGpu();
+            faureGpuSpecialised();
             gpu->run(bose, boseGpu);  // warm-up
             for (int i = 0; i < repeats; ++i) {
                 const double a = double(gpuPixels) * spp * dims / medianSeconds(1, faureGpu) / 1e6;
+                const double c = double(gpuPixels) * spp * dims / medianSeconds(1, faureGpuSpecialised) / 1e6;
                 const double b = double(boseGpu.width) * 121 * dims / medianSeconds(1, [&] { gpu->run(bose, boseGpu); }) / 1e6;
                 gpuFaure.push_back(a), gpuBose.push_back(b), gpuRatio.push_back(a / b);
+                gpuSpecialised.push_back(c), gpuSpecialisedRatio.push_back(c / b);
             }
         }
         const std::string label = "q = " + std::to_string(q) + ", K = " + std::to_string(digits);
         std::printf("%-22s %8u %12.1f %12.1f %8.2f", label.c_str(), spp, median(cpuFaure), median(cpuBose), median(cpuRatio));
         if (!gpuRatio.empty())
-            std::printf(" %12.1f %12.1f %8.2f\n", median(gpuFaure), median(gpuBose), median(gpuRatio));
+            std::printf(" %12.1f %12.1f %12.1f %8.2f %8.2f\n", median(gpuFaure), median(gpuSpecialised), median(gpuBose),
+                        median(gpuRatio), median(gpuSpecialisedRatio));
         else
-            std::printf(" %12s %12s %8s\n", "-", "-", "-");
+            std::printf(" %12s %12s %12s %8s %8s\n", "-", "-", "-", "-", "-");
         std::fflush(stdout);
     }
 }

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "faure_points_spv.h"
+#include "faure_points_static_spv.h"
 #include "gpu_test_support.hpp"
 #include "oas/glsl_compat.hpp"
 #include "oas/pattern.hpp"
@@ -317,7 +318,12 @@ TEST(Faure, ValuesKeepTheStratumContractAndAreUniformOverKeys)
         for (int trial = 0; trial < 2000; ++trial) {
             const std::uint32_t index = rng() % ipow(q, digits), a = rng() % q, key = rng();
             const float x = oas::glsl::oas_faure_value(fa, a, index, key);
-            const std::uint32_t m = oas::glsl::oas_faure_stratum(fa, a, index, key).stratum;
+            const auto stratum = oas::glsl::oas_faure_stratum(fa, a, index, key);
+            const std::uint32_t m = stratum.stratum;
+            // Its definition: the stratum point of the scrambled stratum, jittered by the scramble's
+            // last key (oas_faure_value divides by q^K through its reciprocal: the same bits).
+            ASSERT_EQ(x, oas::glsl::oas_stratum_point(m, fa.strata, oas::glsl::oas_pcg(stratum.key ^ 0x68e31da4u)))
+                << "q " << q << " index " << index;
             ASSERT_LT(x, 1.0f);
             ASSERT_EQ(double(x) * 16777216.0, std::floor(double(x) * 16777216.0));
             ASSERT_LE(double(m) / strataCount, double(x)) << "q " << q << " index " << index;
@@ -341,41 +347,89 @@ TEST(Faure, ValuesKeepTheStratumContractAndAreUniformOverKeys)
 
 class FaureGpu : public oas::test::GpuTest {};
 
+/// (index, element, key) triples for the sequence fa: the first 1024 indices, then random ones.
+std::vector<std::uint32_t> faureTriples(const Base& b, std::uint32_t digits)
+{
+    const std::uint32_t q = b.q();
+    std::mt19937 rng(q * 3);
+    std::vector<std::uint32_t> triples;
+    for (std::uint32_t i = 0; i < 4096; ++i)
+        triples.insert(triples.end(), {i < 1024 ? i : std::uint32_t(rng() % ipow(q, digits)), std::uint32_t(rng() % q),
+                                       std::uint32_t(rng())});
+    return triples;
+}
+
+/// The values the pipeline (tests/shaders/faure_points.comp) makes for the triples.
+std::vector<float> gpuFaureValues(oas::vk::Context& ctx, oas::vk::ComputePipeline& pipeline, const OasFaure& fa,
+                                  const std::vector<std::uint32_t>& triples)
+{
+    struct Push {
+        OasFaure faure;
+        std::uint32_t count;
+    };
+    const std::uint32_t count = std::uint32_t(triples.size() / 3);
+    oas::vk::Buffer in(ctx, triples.size() * sizeof(std::uint32_t)), out(ctx, count * sizeof(float));
+    std::memcpy(in.data(), triples.data(), triples.size() * sizeof(std::uint32_t));
+    std::memset(out.data(), 0xff, count * sizeof(float));  // NaN until written
+    const Push push{fa, count};
+    oas::vk::Buffer* buffers[] = {&in, &out};
+    ctx.dispatch(pipeline, buffers, &push, sizeof(push), (count + 63) / 64);
+    const auto* got = static_cast<const float*>(out.data());
+    return std::vector<float>(got, got + count);
+}
+
+/// How many of the GPU's values differ in any bit from the CPU twin's.
+std::size_t mismatchesWithTheTwin(const OasFaure& fa, const std::vector<std::uint32_t>& triples, const std::vector<float>& got)
+{
+    std::size_t mismatches = 0;
+    for (std::size_t i = 0; i < got.size(); ++i) {
+        const float want = oas::glsl::oas_faure_value(fa, triples[3 * i + 1], triples[3 * i], triples[3 * i + 2]);
+        std::uint32_t a, c;
+        std::memcpy(&a, &got[i], 4);
+        std::memcpy(&c, &want, 4);
+        mismatches += a != c;
+    }
+    return mismatches;
+}
+
+constexpr std::size_t kPushBytes = sizeof(OasFaure) + sizeof(std::uint32_t);
+
 // The GPU computes the same bits: the shader calls the library's oas_faure_value on (index,
 // element, key) triples for every base above at its largest K.
 TEST_F(FaureGpu, GpuValuesEqualTheCpuTwinBitForBit)
 {
     oas::vk::Context& ctx = context();
-    struct Push {
-        OasFaure faure;
-        std::uint32_t count;
-    };
-    oas::vk::ComputePipeline pipeline(ctx, faure_points_spv, sizeof(faure_points_spv), 2, sizeof(Push));
+    oas::vk::ComputePipeline pipeline(ctx, faure_points_spv, sizeof(faure_points_spv), 2, kPushBytes);
     for (const Base& b : bases()) {
-        const std::uint32_t q = b.q(), digits = maxDigits(q);
+        const std::uint32_t digits = maxDigits(b.q());
         const OasFaure fa = faureOf(b, digits);
-        std::mt19937 rng(q * 3);
-        std::vector<std::uint32_t> triples;
-        for (std::uint32_t i = 0; i < 4096; ++i)
-            triples.insert(triples.end(), {i < 1024 ? i : std::uint32_t(rng() % ipow(q, digits)), std::uint32_t(rng() % q),
-                                           std::uint32_t(rng())});
-        const std::uint32_t count = std::uint32_t(triples.size() / 3);
-        oas::vk::Buffer in(ctx, triples.size() * sizeof(std::uint32_t)), out(ctx, count * sizeof(float));
-        std::memcpy(in.data(), triples.data(), triples.size() * sizeof(std::uint32_t));
-        std::memset(out.data(), 0xff, count * sizeof(float));  // NaN until written
-        const Push push{fa, count};
-        oas::vk::Buffer* buffers[] = {&in, &out};
-        ctx.dispatch(pipeline, buffers, &push, sizeof(push), (count + 63) / 64);
-        const auto* got = static_cast<const float*>(out.data());
-        std::size_t mismatches = 0;
-        for (std::uint32_t i = 0; i < count; ++i) {
-            const float want = oas::glsl::oas_faure_value(fa, triples[3 * i + 1], triples[3 * i], triples[3 * i + 2]);
-            std::uint32_t a, c;
-            std::memcpy(&a, &got[i], 4);
-            std::memcpy(&c, &want, 4);
-            mismatches += a != c;
+        const auto triples = faureTriples(b, digits);
+        EXPECT_EQ(mismatchesWithTheTwin(fa, triples, gpuFaureValues(ctx, pipeline, fa, triples)), 0u)
+            << "q " << b.q() << ": GPU and CPU values differ";
+    }
+}
+
+// A shader specialised on K (OAS_STATIC_FAURE_DIGITS) gives the twin's bits for a sequence with
+// that K, and NaN in every value for one with another K: never the values of a K it is not.
+TEST_F(FaureGpu, ASpecialisedShaderGivesTheTwinsBitsForItsKAndNaNForAnother)
+{
+    oas::vk::Context& ctx = context();
+    for (const Base& b : bases()) {
+        const std::uint32_t digits = std::min<std::uint32_t>(maxDigits(b.q()), 3);
+        oas::vk::ComputePipeline pipeline(ctx, faure_points_static_spv, sizeof(faure_points_static_spv), 2, kPushBytes,
+                                          oas::vk::ComputePipeline::SpecConstants{{0, digits}});
+        const OasFaure fa = faureOf(b, digits);
+        const auto triples = faureTriples(b, digits);
+        EXPECT_EQ(mismatchesWithTheTwin(fa, triples, gpuFaureValues(ctx, pipeline, fa, triples)), 0u)
+            << "q " << b.q() << " K " << digits << ": the specialised shader's values differ from the twin's";
+        for (std::uint32_t other : {digits - 1, digits + 1}) {
+            if (other == 0 || ipow(b.q(), other) > (1u << 24)) continue;
+            const OasFaure wrong = faureOf(b, other);
+            const auto values = gpuFaureValues(ctx, pipeline, wrong, faureTriples(b, other));
+            const auto nan = std::count_if(values.begin(), values.end(), [](float v) { return std::isnan(v); });
+            EXPECT_EQ(std::size_t(nan), values.size()) << "q " << b.q() << ": a shader specialised on K " << digits
+                                                       << " handed K " << other << " gave numbers, not NaN";
         }
-        EXPECT_EQ(mismatches, 0u) << "q " << q << ": GPU and CPU values differ";
     }
 }
 

@@ -81,7 +81,8 @@
 //         The generalized Faure (0,s)-sequence in base q, nested-scrambled: dimension `element`
 //         (< q, one field element per dimension, s <= q) of sample `index`. Every aligned block
 //         of q^m consecutive samples is a (0,m,s)-net, so any prefix of lambda q^t samples is an
-//         OA of strength t; its leading digit is Bush's OA.
+//         OA of strength t; its leading digit is Bush's OA. A shader whose sequences all have K
+//         digits defines OAS_STATIC_FAURE_DIGITS to K for speed (every value NaN for another K).
 //
 // EXAMPLE (one invocation per pixel, looping over all of its samples; the library adds no loop
 // iterations, so the loops may be as long as the renderer's own budget allows)

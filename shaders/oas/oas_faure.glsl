@@ -41,13 +41,29 @@
 /// Fixed loops of this length unroll into straight-line code (OAS_UNROLL, the library's rule).
 const uint OAS_FAURE_MAX_DIGITS = 12u;
 
-/// A Faure sequence's per-pattern state: the field, K, q^K and the oas_fastdiv constants of q.
+// A shader whose Faure sequences all have K digits can fix K at compile time (for instance with a
+// specialization constant) by defining OAS_STATIC_FAURE_DIGITS to K before including oas.glsl, as
+// OAS_STATIC_FIELD_KIND / _DEGREE fix the field. Every digit step is then known to run or not,
+// and the steps past K (66 of the 78 field operations at K = 2) compile away; unspecialized, each
+// is guarded by K at run time, which lavapipe pays for whatever K is, since it runs both sides of
+// a branch. A sequence with another K gets NaN for every value (oas_faure_value), never the
+// values of a K it is not.
+#ifdef OAS_STATIC_FAURE_DIGITS
+#define OAS_FAURE_K(fa) OAS_STATIC_FAURE_DIGITS
+#else
+#define OAS_FAURE_K(fa) ((fa).digits)
+#endif
+
+/// A Faure sequence's per-pattern state: the field, K, q^K and the oas_fastdiv constants of q
+/// and of q^K.
 struct OasFaure {
     OasField field;
-    uint digits;  ///< K: indices below q^K; q^K <= 2^24
-    uint strata;  ///< q^K
-    uint recipQ;  ///< oas_fastdiv constants of q (digit extraction)
+    uint digits;       ///< K: indices below q^K; q^K <= 2^24
+    uint strata;       ///< q^K
+    uint recipQ;       ///< oas_fastdiv constants of q (digit extraction)
     uint shiftQ;
+    uint recipStrata;  ///< oas_fastdiv constants of q^K (the stratum point's divisions)
+    uint shiftStrata;
 };
 
 /// The state for base field `f` (q = f.q) and K = `digits` (1 <= K <= OAS_FAURE_MAX_DIGITS,
@@ -60,6 +76,8 @@ OasFaure oas_faure_make(OasField f, uint digits)
     fa.strata = oas_uint_pow(f.q, digits);
     fa.shiftQ = oas_fastdiv_shift(f.q);
     fa.recipQ = oas_fastdiv_recip(f.q, fa.shiftQ);
+    fa.shiftStrata = oas_fastdiv_shift(fa.strata);
+    fa.recipStrata = oas_fastdiv_recip24(fa.strata, fa.shiftStrata);  // q^K may pass 2^16
     return fa;
 }
 
@@ -76,16 +94,29 @@ OasFaureDigits oas_faure_digits(OasFaure fa, uint element, uint index)
     OasFaureDigits c;
     OAS_UNROLL for (uint k = 0u; k < OAS_FAURE_MAX_DIGITS; ++k) {
         uint next = oas_fastdiv(index, fa.recipQ, fa.shiftQ);
-        c.y[k] = k < fa.digits ? index - next * fa.field.q : 0u;
+        c.y[k] = k < OAS_FAURE_K(fa) ? index - next * fa.field.q : 0u;
         index = next;
     }
     // Pass r leaves c.y[r] final: c_j += a c_{j+1} from the top down to j = r. Steps with
-    // j + 1 >= K add a zero digit times a; a pattern's uniform K skips them on every lane alike.
-    OAS_UNROLL for (uint r = 0u; r + 1u < OAS_FAURE_MAX_DIGITS; ++r) {
-        OAS_UNROLL for (uint j = OAS_FAURE_MAX_DIGITS - 1u; j > r; --j) {
-            if (j < fa.digits) c.y[j - 1u] = oas_gf_mul_add(fa.field, c.y[j], element, c.y[j - 1u]);
-        }
+    // j + 1 >= K add a zero digit times a, so only those with r < j < K run, in this order.
+#if defined(OAS_RUNTIME_BRANCHES)
+    // The C++ twin, which branches for real: loops bounded by the pattern's K.
+    for (uint r = 0u; r + 1u < fa.digits; ++r) {
+        for (uint j = fa.digits - 1u; j > r; --j) c.y[j - 1u] = oas_gf_mul_add(fa.field, c.y[j], element, c.y[j - 1u]);
     }
+#else
+    // On the GPU one flat loop of fixed length over every (r, j) step, each guarded: a pattern's
+    // uniform K skips the same steps on every lane, and OAS_STATIC_FAURE_DIGITS folds the guards.
+    // Not two nested loops: Mesa's NIR, which lavapipe compiles with, unrolls only innermost
+    // loops whose trip count it knows, so with the inner one bounded by r both stayed loops, and
+    // the digits stayed in memory indexed at run time (oas-bench: 8-14 M values/s whatever K,
+    // 31-35 flat, 93-118 flat with K specialised).
+    OAS_UNROLL for (uint step = 0u; step < (OAS_FAURE_MAX_DIGITS - 1u) * (OAS_FAURE_MAX_DIGITS - 1u); ++step) {
+        uint r = step / (OAS_FAURE_MAX_DIGITS - 1u);
+        uint j = OAS_FAURE_MAX_DIGITS - 1u - (step - r * (OAS_FAURE_MAX_DIGITS - 1u));  // 11 down to 1
+        if (j > r && j < OAS_FAURE_K(fa)) c.y[j - 1u] = oas_gf_mul_add(fa.field, c.y[j], element, c.y[j - 1u]);
+    }
+#endif
     return c;
 }
 
@@ -104,7 +135,7 @@ OasFaureStratum oas_faure_stratum(OasFaure fa, uint element, uint index, uint ke
     OasFaureStratum result;
     result.stratum = 0u;
     OAS_UNROLL for (uint r = 0u; r < OAS_FAURE_MAX_DIGITS; ++r) {
-        if (r < fa.digits) {
+        if (r < OAS_FAURE_K(fa)) {
             // y -> g y + h on GF(q), g in [1, q), h in [0, q): from the key of the digits above.
             uint h = oas_mulhi(key, fa.field.q);
             uint g = 1u + oas_mulhi(oas_pcg(key ^ 0x5bd1e995u), fa.field.q - 1u);
@@ -120,11 +151,15 @@ OasFaureStratum oas_faure_stratum(OasFaure fa, uint element, uint index, uint ke
 uint oas_faure_key(uint pixelSeed, uint block, uint element) { return oas_hash3(pixelSeed, block, element); }
 
 /// Sample `index` of the sequence in the dimension of `element`, scrambled by `key`: a float in
-/// its scrambled stratum of q^K, placed there by a hash of the scramble's last key.
+/// its scrambled stratum of q^K, placed there by a hash of the scramble's last key (the exact
+/// contract of oas_stratum_point, with q^K's division by its oas_fastdiv constants). NaN in a
+/// shader specialized on another K (OAS_STATIC_FAURE_DIGITS).
 float oas_faure_value(OasFaure fa, uint element, uint index, uint key)
 {
     OasFaureStratum st = oas_faure_stratum(fa, element, index, key);
-    return oas_stratum_point(st.stratum, fa.strata, oas_pcg(st.key ^ 0x68e31da4u));
+    float v = oas_stratum_point_divided(st.stratum, fa.strata, fa.recipStrata, fa.shiftStrata, oas_pcg(st.key ^ 0x68e31da4u),
+                                        OAS_SMALL_STRATA_ANY_N(fa.strata));
+    return fa.digits == OAS_FAURE_K(fa) ? v : uintBitsToFloat(0x7fc00000u);
 }
 
 #endif // OAS_FAURE_GLSL

@@ -4,6 +4,12 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #define OAS_NO_SOBOL
+// FAURE_POINTS_STATIC_DIGITS (a second build of this file): K fixed by specialization constant 0,
+// as a renderer that specialises on its sequence would (OAS_STATIC_FAURE_DIGITS).
+#ifdef FAURE_POINTS_STATIC_DIGITS
+layout(constant_id = 0) const uint faureDigits = 1u;
+#define OAS_STATIC_FAURE_DIGITS faureDigits
+#endif
 #include "oas/oas.glsl"
 
 layout(local_size_x = 64) in;
