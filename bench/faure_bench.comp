@@ -14,6 +14,7 @@
 layout(constant_id = 0) const uint faureDigits = 0u;
 #ifdef FAURE_BENCH_STATIC_DIGITS
 #define OAS_STATIC_FAURE_DIGITS faureDigits
+#define OAS_STATIC_SMALL_N 1u  // every row has q^K <= 2^16: the stratum point's short division
 #endif
 #include "oas/oas.glsl"
 

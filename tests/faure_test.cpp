@@ -409,26 +409,30 @@ TEST_F(FaureGpu, GpuValuesEqualTheCpuTwinBitForBit)
     }
 }
 
-// A shader specialised on K (OAS_STATIC_FAURE_DIGITS) gives the twin's bits for a sequence with
-// that K, and NaN in every value for one with another K: never the values of a K it is not.
+// A shader specialised on K (OAS_STATIC_FAURE_DIGITS, with the stratum point's short division,
+// OAS_STATIC_SMALL_N = 1, or the long one) gives the twin's bits for a sequence with that K, and
+// NaN in every value for one with another K: never the values of a K it is not.
 TEST_F(FaureGpu, ASpecialisedShaderGivesTheTwinsBitsForItsKAndNaNForAnother)
 {
     oas::vk::Context& ctx = context();
     for (const Base& b : bases()) {
-        const std::uint32_t digits = std::min<std::uint32_t>(maxDigits(b.q()), 3);
-        oas::vk::ComputePipeline pipeline(ctx, faure_points_static_spv, sizeof(faure_points_static_spv), 2, kPushBytes,
-                                          oas::vk::ComputePipeline::SpecConstants{{0, digits}});
-        const OasFaure fa = faureOf(b, digits);
-        const auto triples = faureTriples(b, digits);
-        EXPECT_EQ(mismatchesWithTheTwin(fa, triples, gpuFaureValues(ctx, pipeline, fa, triples)), 0u)
-            << "q " << b.q() << " K " << digits << ": the specialised shader's values differ from the twin's";
-        for (std::uint32_t other : {digits - 1, digits + 1}) {
-            if (other == 0 || ipow(b.q(), other) > (1u << 24)) continue;
-            const OasFaure wrong = faureOf(b, other);
-            const auto values = gpuFaureValues(ctx, pipeline, wrong, faureTriples(b, other));
-            const auto nan = std::count_if(values.begin(), values.end(), [](float v) { return std::isnan(v); });
-            EXPECT_EQ(std::size_t(nan), values.size()) << "q " << b.q() << ": a shader specialised on K " << digits
-                                                       << " handed K " << other << " gave numbers, not NaN";
+        for (std::uint32_t smallStrata : {0u, 1u}) {
+            const std::uint32_t digits = std::min<std::uint32_t>(maxDigits(b.q()), 3);
+            ASSERT_LE(ipow(b.q(), digits), 65536u);
+            oas::vk::ComputePipeline pipeline(ctx, faure_points_static_spv, sizeof(faure_points_static_spv), 2, kPushBytes,
+                                              oas::vk::ComputePipeline::SpecConstants{{0, digits}, {1, smallStrata}});
+            const OasFaure fa = faureOf(b, digits);
+            const auto triples = faureTriples(b, digits);
+            EXPECT_EQ(mismatchesWithTheTwin(fa, triples, gpuFaureValues(ctx, pipeline, fa, triples)), 0u)
+                << "q " << b.q() << " K " << digits << ": the specialised shader's values differ from the twin's";
+            for (std::uint32_t other : {digits - 1, digits + 1}) {
+                if (other == 0 || ipow(b.q(), other) > (1u << 24)) continue;
+                const OasFaure wrong = faureOf(b, other);
+                const auto values = gpuFaureValues(ctx, pipeline, wrong, faureTriples(b, other));
+                const auto nan = std::count_if(values.begin(), values.end(), [](float v) { return std::isnan(v); });
+                EXPECT_EQ(std::size_t(nan), values.size()) << "q " << b.q() << ": a shader specialised on K " << digits
+                                                           << " handed K " << other << " gave numbers, not NaN";
+            }
         }
     }
 }

@@ -152,14 +152,20 @@ uint oas_faure_key(uint pixelSeed, uint block, uint element) { return oas_hash3(
 
 /// Sample `index` of the sequence in the dimension of `element`, scrambled by `key`: a float in
 /// its scrambled stratum of q^K, placed there by a hash of the scramble's last key (the exact
-/// contract of oas_stratum_point, with q^K's division by its oas_fastdiv constants). NaN in a
-/// shader specialized on another K (OAS_STATIC_FAURE_DIGITS).
+/// contract of oas_stratum_point, with q^K's division by its oas_fastdiv constants: one division
+/// where q^K <= 2^16 is known, OAS_STATIC_SMALL_N = 1 as for a pattern's N, three otherwise). NaN
+/// in a shader specialized on another K (OAS_STATIC_FAURE_DIGITS) or, with OAS_STATIC_SMALL_N = 1,
+/// for q^K > 2^16.
 float oas_faure_value(OasFaure fa, uint element, uint index, uint key)
 {
     OasFaureStratum st = oas_faure_stratum(fa, element, index, key);
     float v = oas_stratum_point_divided(st.stratum, fa.strata, fa.recipStrata, fa.shiftStrata, oas_pcg(st.key ^ 0x68e31da4u),
-                                        OAS_SMALL_STRATA_ANY_N(fa.strata));
-    return fa.digits == OAS_FAURE_K(fa) ? v : uintBitsToFloat(0x7fc00000u);
+                                        OAS_SMALL_STRATA(fa.strata));
+    bool fits = fa.digits == OAS_FAURE_K(fa);
+#ifdef OAS_STATIC_SMALL_N
+    fits = fits && (OAS_STATIC_SMALL_N == 0u || fa.strata <= 65536u);  // the short division needs q^K <= 2^16
+#endif
+    return fits ? v : uintBitsToFloat(0x7fc00000u);
 }
 
 #endif // OAS_FAURE_GLSL

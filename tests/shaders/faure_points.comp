@@ -9,6 +9,8 @@
 #ifdef FAURE_POINTS_STATIC_DIGITS
 layout(constant_id = 0) const uint faureDigits = 1u;
 #define OAS_STATIC_FAURE_DIGITS faureDigits
+layout(constant_id = 1) const uint faureSmallStrata = 0u;
+#define OAS_STATIC_SMALL_N faureSmallStrata
 #endif
 #include "oas/oas.glsl"
 
