@@ -359,21 +359,26 @@ std::vector<std::uint32_t> faureTriples(const Base& b, std::uint32_t digits)
     return triples;
 }
 
-/// The values the pipeline (tests/shaders/faure_points.comp) makes for the triples.
+struct FaurePush {
+    OasFaure faure;
+    std::uint32_t count, perInvocation, burn;
+};
+constexpr std::size_t kPushBytes = sizeof(FaurePush);
+
+/// The values the pipeline (tests/shaders/faure_points.comp) makes for the triples, each
+/// invocation making `perInvocation` of them after `burn` iterations of a loop of its own.
 std::vector<float> gpuFaureValues(oas::vk::Context& ctx, oas::vk::ComputePipeline& pipeline, const OasFaure& fa,
-                                  const std::vector<std::uint32_t>& triples)
+                                  const std::vector<std::uint32_t>& triples, std::uint32_t perInvocation = 1,
+                                  std::uint32_t burn = 0)
 {
-    struct Push {
-        OasFaure faure;
-        std::uint32_t count;
-    };
     const std::uint32_t count = std::uint32_t(triples.size() / 3);
-    oas::vk::Buffer in(ctx, triples.size() * sizeof(std::uint32_t)), out(ctx, count * sizeof(float));
+    const std::uint32_t invocations = (count + perInvocation - 1) / perInvocation;
+    oas::vk::Buffer in(ctx, triples.size() * sizeof(std::uint32_t)), out(ctx, (count + invocations) * sizeof(float));
     std::memcpy(in.data(), triples.data(), triples.size() * sizeof(std::uint32_t));
-    std::memset(out.data(), 0xff, count * sizeof(float));  // NaN until written
-    const Push push{fa, count};
+    std::memset(out.data(), 0xff, (count + invocations) * sizeof(float));  // NaN until written
+    const FaurePush push{fa, count, perInvocation, burn};
     oas::vk::Buffer* buffers[] = {&in, &out};
-    ctx.dispatch(pipeline, buffers, &push, sizeof(push), (count + 63) / 64);
+    ctx.dispatch(pipeline, buffers, &push, sizeof(push), (invocations + 63) / 64);
     const auto* got = static_cast<const float*>(out.data());
     return std::vector<float>(got, got + count);
 }
@@ -391,8 +396,6 @@ std::size_t mismatchesWithTheTwin(const OasFaure& fa, const std::vector<std::uin
     }
     return mismatches;
 }
-
-constexpr std::size_t kPushBytes = sizeof(OasFaure) + sizeof(std::uint32_t);
 
 // The GPU computes the same bits: the shader calls the library's oas_faure_value on (index,
 // element, key) triples for every base above at its largest K.
@@ -433,6 +436,42 @@ TEST_F(FaureGpu, ASpecialisedShaderGivesTheTwinsBitsForItsKAndNaNForAnother)
                 EXPECT_EQ(std::size_t(nan), values.size()) << "q " << b.q() << ": a shader specialised on K " << digits
                                                            << " handed K " << other << " gave numbers, not NaN";
             }
+        }
+    }
+}
+
+// Lavapipe ends an invocation's loops after 65535 iterations in all, silently (DESIGN-NOTES' lavapipe
+// facts): a renderer that makes many values in one invocation gets wrong ones once the library's
+// own loops add up. Eight invocations make 8192 values each after a burn that leaves 64 spare
+// iterations, with K at run time and specialised: a single library loop iteration per value would
+// end the value loop thousands of values early. (Nested Taylor-shift loops did, before they were
+// made one flat loop: NIR unrolled neither.)
+TEST_F(FaureGpu, ManyValuesInOneInvocationAddNoLoopIterations)
+{
+    oas::vk::Context& ctx = context();
+    constexpr std::uint32_t kPerInvocation = 8192, kInvocations = 8, kSpare = 64;
+    const Base b = bases().front();
+    const std::uint32_t digits = std::min<std::uint32_t>(maxDigits(b.q()), 3);
+    const OasFaure fa = faureOf(b, digits);
+    std::mt19937 rng(99);
+    std::vector<std::uint32_t> triples;
+    for (std::uint32_t i = 0; i < kPerInvocation * kInvocations; ++i)
+        triples.insert(triples.end(),
+                       {std::uint32_t(rng() % ipow(b.q(), digits)), std::uint32_t(rng() % b.q()), std::uint32_t(rng())});
+    oas::vk::ComputePipeline runtimeK(ctx, faure_points_spv, sizeof(faure_points_spv), 2, kPushBytes);
+    oas::vk::ComputePipeline specialisedK(ctx, faure_points_static_spv, sizeof(faure_points_static_spv), 2, kPushBytes,
+                                          oas::vk::ComputePipeline::SpecConstants{{0, digits}, {1, 1}});
+    for (auto* pipeline : {&runtimeK, &specialisedK}) {
+        const char* what = pipeline == &runtimeK ? "K at run time" : "K specialised";
+        const std::uint32_t burn = 65535 - kPerInvocation - kSpare;
+        EXPECT_EQ(mismatchesWithTheTwin(fa, triples, gpuFaureValues(ctx, *pipeline, fa, triples, kPerInvocation, burn)), 0u)
+            << what << ": values after a near-cap burn differ from the twin's (the library added loop iterations)";
+        // The check can fail: on lavapipe a burn past the cap leaves the last values unwritten
+        // (other drivers have no such cap, and nothing to check here).
+        if (ctx.isLavapipe()) {
+            const auto pastCap = gpuFaureValues(ctx, *pipeline, fa, triples, kPerInvocation, burn + 2 * kSpare);
+            EXPECT_GT(mismatchesWithTheTwin(fa, triples, pastCap), 0u)
+                << what << ": a burn past lavapipe's cap still gave every value, so this test cannot see a loop";
         }
     }
 }

@@ -18,13 +18,24 @@ layout(local_size_x = 64) in;
 layout(push_constant) uniform Params {
     OasFaure faure;
     uint count;
+    uint perInvocation;  ///< values each invocation makes, in a loop of its own
+    uint burn;           ///< loop iterations spent before them (lavapipe's cap, see below)
 } params;
 layout(std430, binding = 0) readonly buffer Triples { uint triples[]; };  // index, element, key
-layout(std430, binding = 1) writeonly buffer Values { float values[]; };
+layout(std430, binding = 1) writeonly buffer Values { float values[]; };  // count, then one per invocation
 
+// Lavapipe ends an invocation's loops after 65535 iterations in all, silently. With many values per
+// invocation and a burn that leaves only a few spare iterations, a loop the library left in (one
+// the compiler did not unroll) ends the value loop early: those values stay NaN and differ from the
+// twin's (FaureGpu.ManyValuesInOneInvocationAddNoLoopIterations).
 void main()
 {
-    uint k = gl_GlobalInvocationID.x;
-    if (k >= params.count) return;
-    values[k] = oas_faure_value(params.faure, triples[3u * k + 1u], triples[3u * k], triples[3u * k + 2u]);
+    uint first = gl_GlobalInvocationID.x * params.perInvocation;
+    if (first >= params.count) return;
+    uint burnt = 0u;
+    for (uint b = 0u; b < params.burn; ++b) burnt += b ^ first;
+    values[params.count + gl_GlobalInvocationID.x] = float(burnt & 1u);  // keeps the burn loop
+    uint end = min(params.count, first + params.perInvocation);
+    for (uint k = first; k < end; ++k)
+        values[k] = oas_faure_value(params.faure, triples[3u * k + 1u], triples[3u * k], triples[3u * k + 2u]);
 }
