@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gpu_test_support.hpp"
+#include "render/fnv1a.hpp"
 #include "render/plan.hpp"
 #include "render/scene_data.hpp"
 #include "render/tracer.hpp"
@@ -65,17 +66,14 @@ std::vector<RenderCase> renderCases()
     return cases;
 }
 
-/// FNV-1a (64-bit) over the words' little-endian bytes: a short, exact fingerprint of the sums.
+/// FNV-1a (64-bit) over the words' bytes (little-endian on the machines we run): a short, exact
+/// fingerprint of the sums.
 std::string fingerprint(const std::vector<std::uint32_t>& words)
 {
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    for (std::uint32_t w : words)
-        for (int b = 0; b < 4; ++b) {
-            h ^= (w >> (8 * b)) & 0xffu;
-            h *= 0x100000001b3ull;
-        }
+    render::Fnv1a f;
+    f.bytes(words.data(), words.size() * sizeof(std::uint32_t));
     char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(f.h));
     return text;
 }
 

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "image/image.hpp"
+#include "render/fnv1a.hpp"
 #include "oas/pattern.hpp"
 
 namespace oas::render {
@@ -32,24 +33,6 @@ bool parseUint(std::string_view text, std::uint32_t& value)
     const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
     return ec == std::errc() && end == text.data() + text.size();
 }
-
-/// FNV-1a, 64 bits, over the bytes of `data` (the flattened scene's structs are built from vec4s
-/// with no padding, so their bytes are their values).
-struct Fnv1a {
-    std::uint64_t h = 0xcbf29ce484222325ull;
-    void bytes(const void* data, std::size_t size)
-    {
-        const auto* p = static_cast<const unsigned char*>(data);
-        for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 0x100000001b3ull;
-    }
-    template <class T>
-    void items(const std::vector<T>& v)
-    {
-        const std::uint64_t n = v.size();
-        bytes(&n, sizeof n);
-        bytes(v.data(), v.size() * sizeof(T));
-    }
-};
 
 std::string hex(std::uint64_t v, int digits)
 {
