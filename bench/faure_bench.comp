@@ -9,8 +9,8 @@
 #define OAS_NO_SOBOL
 #define OAS_STATIC_FIELD_KIND 0u
 #define OAS_STATIC_FIELD_DEGREE 1u
-// K, the sequence's digit count, as a specialization constant (constant_id 0; 0: unspecialized,
-// the library's run-time K).
+// FAURE_BENCH_STATIC_DIGITS (the second build of this file): K, the sequence's digit count, fixed
+// by specialization constant 0; the first build leaves K to run time and ignores the constant.
 layout(constant_id = 0) const uint faureDigits = 0u;
 #ifdef FAURE_BENCH_STATIC_DIGITS
 #define OAS_STATIC_FAURE_DIGITS faureDigits

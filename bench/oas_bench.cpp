@@ -169,12 +169,10 @@ void printProgressiveCost(oas::vk::Context* context, oas::GpuGenerator* gpu, std
             oas::vk::Buffer values(*context, std::size_t(gpuPixels) * spp * dims * sizeof(float));
             const Push push{fa, gpuPixels, spp, dims, 1};
             oas::vk::Buffer* buffers[] = {&values};
-            auto faureGpu = [&] {
-                context->dispatch(*pipeline, buffers, &push, sizeof(push), (gpuPixels * spp + 63) / 64);
+            auto faureOn = [&](oas::vk::ComputePipeline& p) {
+                return [&] { context->dispatch(p, buffers, &push, sizeof(push), (gpuPixels * spp + 63) / 64); };
             };
-            auto faureGpuSpecialised = [&] {
-                context->dispatch(*specialised, buffers, &push, sizeof(push), (gpuPixels * spp + 63) / 64);
-            };
+            const auto faureGpu = faureOn(*pipeline), faureGpuSpecialised = faureOn(*specialised);
             const oas::SampleRequest boseGpu = onePass(bose, std::max<std::uint32_t>(1, (1u << 23) / (121 * dims)), dims);
             faureGpu();
             faureGpuSpecialised();

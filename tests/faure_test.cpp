@@ -347,13 +347,14 @@ TEST(Faure, ValuesKeepTheStratumContractAndAreUniformOverKeys)
 
 class FaureGpu : public oas::test::GpuTest {};
 
-/// (index, element, key) triples for the sequence fa: the first 1024 indices, then random ones.
-std::vector<std::uint32_t> faureTriples(const Base& b, std::uint32_t digits)
+/// `count` (index, element, key) triples for base b with K = digits: the first 1024 indices, then
+/// random ones.
+std::vector<std::uint32_t> faureTriples(const Base& b, std::uint32_t digits, std::uint32_t count = 4096)
 {
     const std::uint32_t q = b.q();
     std::mt19937 rng(q * 3);
     std::vector<std::uint32_t> triples;
-    for (std::uint32_t i = 0; i < 4096; ++i)
+    for (std::uint32_t i = 0; i < count; ++i)
         triples.insert(triples.end(), {i < 1024 ? i : std::uint32_t(rng() % ipow(q, digits)), std::uint32_t(rng() % q),
                                        std::uint32_t(rng())});
     return triples;
@@ -453,11 +454,7 @@ TEST_F(FaureGpu, ManyValuesInOneInvocationAddNoLoopIterations)
     const Base b = bases().front();
     const std::uint32_t digits = std::min<std::uint32_t>(maxDigits(b.q()), 3);
     const OasFaure fa = faureOf(b, digits);
-    std::mt19937 rng(99);
-    std::vector<std::uint32_t> triples;
-    for (std::uint32_t i = 0; i < kPerInvocation * kInvocations; ++i)
-        triples.insert(triples.end(),
-                       {std::uint32_t(rng() % ipow(b.q(), digits)), std::uint32_t(rng() % b.q()), std::uint32_t(rng())});
+    const auto triples = faureTriples(b, digits, kPerInvocation * kInvocations);
     oas::vk::ComputePipeline runtimeK(ctx, faure_points_spv, sizeof(faure_points_spv), 2, kPushBytes);
     oas::vk::ComputePipeline specialisedK(ctx, faure_points_static_spv, sizeof(faure_points_static_spv), 2, kPushBytes,
                                           oas::vk::ComputePipeline::SpecConstants{{0, digits}, {1, 1}});

@@ -109,8 +109,8 @@ OasFaureDigits oas_faure_digits(OasFaure fa, uint element, uint index)
     // uniform K skips the same steps on every lane, and OAS_STATIC_FAURE_DIGITS folds the guards.
     // Not two nested loops: Mesa's NIR, which lavapipe compiles with, unrolls only innermost
     // loops whose trip count it knows, so with the inner one bounded by r both stayed loops, and
-    // the digits stayed in memory indexed at run time (oas-bench: 8-14 M values/s whatever K,
-    // 31-35 flat, 93-118 flat with K specialised).
+    // the digits stayed in memory indexed at run time, and a shader making thousands of values
+    // in one invocation ran into lavapipe's loop cap (docs/BENCHMARKS.md, DESIGN-NOTES.md).
     OAS_UNROLL for (uint step = 0u; step < (OAS_FAURE_MAX_DIGITS - 1u) * (OAS_FAURE_MAX_DIGITS - 1u); ++step) {
         uint r = step / (OAS_FAURE_MAX_DIGITS - 1u);
         uint j = OAS_FAURE_MAX_DIGITS - 1u - (step - r * (OAS_FAURE_MAX_DIGITS - 1u));  // 11 down to 1
