@@ -24,11 +24,13 @@ layout(constant_id = 1) const uint oasSpecOffset = 3u;
 layout(constant_id = 2) const uint oasSpecFieldKind = 0u;
 layout(constant_id = 3) const uint oasSpecFieldDegree = 1u;
 layout(constant_id = 4) const uint oasSpecSmallN = 0u;
+layout(constant_id = 5) const uint oasSpecIndexBits = 24u;
 #define OAS_STATIC_CONSTRUCTION oasSpecConstruction
 #define OAS_STATIC_OFFSET oasSpecOffset
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
 #define OAS_STATIC_FIELD_DEGREE oasSpecFieldDegree
 #define OAS_STATIC_SMALL_N oasSpecSmallN
+#define OAS_STATIC_INDEX_BITS oasSpecIndexBits
 #endif
 // The Sobol baselines' direction numbers (oas::sobolDirections(), 1024 dims x 32 bits), as texels
 // of four (lavapipe fetches texels for all lanes at once; see pt_render.comp).

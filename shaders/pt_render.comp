@@ -17,6 +17,7 @@ PT_SAMPLER_CONSTANTS(PT_DECLARE_SPEC_CONSTANT)
 #define OAS_STATIC_FIELD_KIND oasSpecFieldKind
 #define OAS_STATIC_FIELD_DEGREE oasSpecFieldDegree
 #define OAS_STATIC_SMALL_N oasSpecSmallN
+#define OAS_STATIC_INDEX_BITS oasSpecIndexBits
 // The Sobol baselines' direction numbers (oas::sobolDirections(), 1024 dims x 32 bits), as texels
 // of four: lavapipe fetches a texel for all lanes at once, where it loaded a storage-buffer
 // element one lane at a time. `bit` is a constant in the library's unrolled loop, so the

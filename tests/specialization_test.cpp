@@ -62,6 +62,9 @@ std::vector<std::pair<std::string, oas::Pattern>> patterns()
     };
     for (const auto& name : oas::samplerNames())
         if (!oas::isOrthogonalArray(name)) list.push_back({name + " 16", make(name.c_str(), 16)});
+    // Halton's digit loops stop at the bits of N - 1 (OAS_STATIC_INDEX_BITS): a shader made for
+    // N = 16 (4 bits) must refuse N = 121 (7), one made for 121 must give 16's values.
+    list.push_back({"halton 121", make("halton", 121)});
     return list;
 }
 
@@ -80,7 +83,7 @@ TEST_F(Specialization, AMismatchedPatternGivesNaNNeverWrongValues)
         OasSpecialization spec;
         oas_specialization(&specPattern, &spec);
         const oas::vk::ComputePipeline::SpecConstants constants = {
-            {0, spec.construction}, {1, spec.offset}, {2, spec.fieldKind}, {3, spec.fieldDegree}, {4, spec.smallN}};
+            {0, spec.construction}, {1, spec.offset}, {2, spec.fieldKind}, {3, spec.fieldDegree}, {4, spec.smallN}, {5, spec.indexBits}};
         oas::vk::ComputePipeline pipe(ctx, specialized_consumer_spv, sizeof(specialized_consumer_spv), 2, sizeof(Push), constants);
         for (const auto& [name, pattern] : list) {
             SCOPED_TRACE("shader specialized for " + specName + ", given " + name);
@@ -120,13 +123,16 @@ TEST(SpecializationC, FieldKindDegreeAndSizeFollowTheConstruction)
     // no field (kind 0, degree 1).
     struct Expected {
         const char* sampler;
-        std::uint32_t spp, strength, kind, degree, smallN;
+        std::uint32_t spp, strength, kind, degree, smallN, indexBits;
     };
     const Expected cases[] = {
-        {"bose", 49, 0, 0, 1, 1},      {"bose", 64, 0, 1, 3, 1},  {"bose", 81, 0, 2, 2, 1},
-        {"bose", 66049, 0, 0, 1, 0},   {"bush", 512, 3, 1, 3, 1}, {"bose-bush", 32, 0, 1, 3, 1},
-        {"addelman-kempthorne", 162, 0, 2, 2, 1}, {"cmjnd", 27, 3, 0, 1, 1}, {"halton", 16, 0, 0, 1, 1},
-        {"sobol", 100000, 0, 0, 1, 0},
+        // indexBits: 24 (any N) but for Halton, where it is the bits of N - 1: 15 = 0b1111 has
+        // 4, 16 = 0b10000 has 5, 0 has none.
+        {"bose", 49, 0, 0, 1, 1, 24},      {"bose", 64, 0, 1, 3, 1, 24},  {"bose", 81, 0, 2, 2, 1, 24},
+        {"bose", 66049, 0, 0, 1, 0, 24},   {"bush", 512, 3, 1, 3, 1, 24}, {"bose-bush", 32, 0, 1, 3, 1, 24},
+        {"addelman-kempthorne", 162, 0, 2, 2, 1, 24}, {"cmjnd", 27, 3, 0, 1, 1, 24}, {"halton", 16, 0, 0, 1, 1, 4},
+        {"halton", 17, 0, 0, 1, 1, 5},     {"halton", 1, 0, 0, 1, 1, 0},  {"halton", 100000, 0, 0, 1, 0, 17},
+        {"sobol", 100000, 0, 0, 1, 0, 24},
     };
     for (const auto& c : cases) {
         const oas::Pattern pattern = make(c.sampler, c.spp, "mj", c.strength);
@@ -138,6 +144,7 @@ TEST(SpecializationC, FieldKindDegreeAndSizeFollowTheConstruction)
         EXPECT_EQ(s.fieldKind, c.kind);
         EXPECT_EQ(s.fieldDegree, c.degree);
         EXPECT_EQ(s.smallN, c.smallN);
+        EXPECT_EQ(s.indexBits, c.indexBits);
         EXPECT_TRUE(oas_specialization_matches(&pattern, &s));
         OasSpecialization other = s;
         other.offset ^= 1u;
@@ -145,8 +152,15 @@ TEST(SpecializationC, FieldKindDegreeAndSizeFollowTheConstruction)
         other = s;
         other.smallN = 0;  // the long division serves every N
         EXPECT_TRUE(oas_specialization_matches(&pattern, &other));
+        other = s;
+        other.indexBits = 24;  // any N
+        EXPECT_TRUE(oas_specialization_matches(&pattern, &other));
+        if (c.indexBits > 0 && c.indexBits < 24) {  // one bit fewer no longer holds N - 1
+            other.indexBits = c.indexBits - 1;
+            EXPECT_FALSE(oas_specialization_matches(&pattern, &other));
+        }
     }
-    EXPECT_EQ(sizeof(OasSpecialization), 5 * sizeof(std::uint32_t));  // VkSpecializationMapEntry offsets
+    EXPECT_EQ(sizeof(OasSpecialization), 6 * sizeof(std::uint32_t));  // VkSpecializationMapEntry offsets
 }
 
 }  // namespace

@@ -24,7 +24,8 @@ int main(void)
     printf("pattern:");
     for (w = 0; w < sizeof pattern / sizeof *words; ++w) printf(" %s=%u", oas_pattern_field_name(w), (unsigned)words[w]);
     oas_specialization(&pattern, &spec);
-    printf("\nspecialization: construction=%u offset=%u fieldKind=%u fieldDegree=%u smallN=%u\n", (unsigned)spec.construction,
-           (unsigned)spec.offset, (unsigned)spec.fieldKind, (unsigned)spec.fieldDegree, (unsigned)spec.smallN);
+    printf("\nspecialization: construction=%u offset=%u fieldKind=%u fieldDegree=%u smallN=%u indexBits=%u\n",
+           (unsigned)spec.construction, (unsigned)spec.offset, (unsigned)spec.fieldKind, (unsigned)spec.fieldDegree,
+           (unsigned)spec.smallN, (unsigned)spec.indexBits);
     return 0;
 }

@@ -71,7 +71,7 @@ GpuGenerator::GpuGenerator(vk::Context& context, Kernel kernel) : context_(conte
 vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
 {
     const bool specialised = kernel_ == Kernel::Specialised;
-    const auto key = specialised ? oas::specializationKey(pattern) : std::make_tuple(0u, 0u, 0u, 0u, 0u);
+    const auto key = specialised ? oas::specializationKey(pattern) : oas::SpecializationKey{};
     auto& slot = pipelines_[key];
     if (!slot) {
         struct Spirv {
@@ -88,7 +88,8 @@ vk::ComputePipeline& GpuGenerator::pipelineFor(const Pattern& pattern)
                     {1, std::get<1>(key)},
                     {2, std::get<2>(key)},
                     {3, std::get<3>(key)},
-                    {4, std::get<4>(key)}};
+                    {4, std::get<4>(key)},
+                    {5, std::get<5>(key)}};
         const auto start = std::chrono::steady_clock::now();
         // Binding 0, the output, is a storage texel buffer of uint (oas_generate.comp says why).
         slot = std::make_unique<vk::ComputePipeline>(

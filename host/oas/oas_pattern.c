@@ -565,6 +565,9 @@ void oas_sobol_directions(uint32_t out[OAS_SOBOL_BLOCK_DIMS * 32])
 
 /* ---- Specialization ------------------------------------------------------------------------ */
 
+/* Bits of a sample index within a pass (index < N <= 2^24): OAS_INDEX_BITS of oas_baselines.glsl. */
+#define OASP_INDEX_BITS 24u
+
 void oas_specialization(const OasPattern* pattern, OasSpecialization* out)
 {
     out->construction = pattern->construction;
@@ -572,6 +575,14 @@ void oas_specialization(const OasPattern* pattern, OasSpecialization* out)
     out->fieldKind = pattern->fieldK <= 1 ? 0u : (pattern->fieldP == 2 ? 1u : 2u);
     out->fieldDegree = pattern->fieldK <= 1 ? 1u : pattern->fieldK;
     out->smallN = pattern->N <= 65536u ? 1u : 0u;
+    /* Only Halton's work grows with the index's digits; the others keep 24 so that patterns of one
+       kind and any N share a pipeline. */
+    out->indexBits = OASP_INDEX_BITS;
+    if (pattern->construction == OAS_HALTON) {
+        uint32_t bits = 0;
+        while (bits < OASP_INDEX_BITS && ((pattern->N - 1u) >> bits) != 0u) ++bits;
+        out->indexBits = bits;
+    }
 }
 
 int oas_specialization_matches(const OasPattern* pattern, const OasSpecialization* spec)
@@ -579,7 +590,8 @@ int oas_specialization_matches(const OasPattern* pattern, const OasSpecializatio
     OasSpecialization own;
     oas_specialization(pattern, &own);
     return own.construction == spec->construction && own.offset == spec->offset && own.fieldKind == spec->fieldKind &&
-           own.fieldDegree == spec->fieldDegree && (spec->smallN == 0 || own.smallN == 1);
+           own.fieldDegree == spec->fieldDegree && (spec->smallN == 0 || own.smallN == 1) &&
+           (spec->indexBits >= OASP_INDEX_BITS || ((pattern->N - 1u) >> spec->indexBits) == 0u);
 }
 
 /* ---- Dimension layout ---------------------------------------------------------------------- */

@@ -78,13 +78,17 @@ inline std::uint32_t fieldDegree(const Pattern& p) { return specialization(p).fi
 /// OAS_STATIC_SMALL_N for the pattern: 1 when N <= 2^16, so that every stratum count the library
 /// divides by fits the stratum point's one-division path (shaders/oas/oas_strata.glsl).
 inline std::uint32_t smallN(const Pattern& p) { return specialization(p).smallN; }
+/// OAS_STATIC_INDEX_BITS for the pattern: for Halton the bits of N - 1, which bound its digit
+/// loops (shaders/oas/oas_baselines.glsl); 24, any N, for the others.
+inline std::uint32_t indexBits(const Pattern& p) { return specialization(p).indexBits; }
 /// What a GPU pipeline is specialized on (construction, offset, field kind, field degree, small
-/// N): two patterns with the same key run on the same pipeline, the rest of the pattern being
-/// push constants.
-inline std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t> specializationKey(const Pattern& p)
+/// N, index bits): two patterns with the same key run on the same pipeline, the rest of the
+/// pattern being push constants.
+using SpecializationKey = std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>;
+inline SpecializationKey specializationKey(const Pattern& p)
 {
     const OasSpecialization s = specialization(p);
-    return {s.construction, s.offset, s.fieldKind, s.fieldDegree, s.smallN};
+    return {s.construction, s.offset, s.fieldKind, s.fieldDegree, s.smallN, s.indexBits};
 }
 
 /// Sobol direction numbers, OAS_SOBOL_BLOCK_DIMS (1024) dimensions x 32 bits, [dim * 32 + bit], bit 0

@@ -112,10 +112,10 @@
 //     between opposite edges of the pair's square (N^-3 on periodic ones); MJ offsets give N^-2
 //     on both (docs/STUDY.md). Prefer MJ for smooth, non-periodic pairs.
 //   - Specialise the shader on the pattern kind (OAS_STATIC_CONSTRUCTION / _OFFSET / _FIELD_KIND /
-//     _FIELD_DEGREE / _SMALL_N, e.g. from specialization constants, see oas_pattern.glsl) for
+//     _FIELD_DEGREE / _SMALL_N / _INDEX_BITS, e.g. from specialization constants, see oas_pattern.glsl) for
 //     speed: lavapipe runs both sides of every branch, so an unspecialised shader pays for every
 //     construction's code, for field loops as long as the largest field's, and for the stratum
-//     point's long division. oas_specialization (oas_pattern.h) fills the five values for a
+//     point's long division. oas_specialization (oas_pattern.h) fills the six values for a
 //     pattern. A specialized shader handed a pattern of another kind returns NaN in every value,
 //     never wrong numbers (oas_specialized_value); oas_specialization_matches(p) says which.
 //   - Fixed work. Each loop's trip count is the largest case the numeric contract allows: 12 bits

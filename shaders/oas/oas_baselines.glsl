@@ -7,6 +7,16 @@
 /// per-bit loops below, whatever N is.
 const uint OAS_INDEX_BITS = 24u;
 
+/// Whether digit k (base 2 or more) of a sample index can be nonzero: index < N <= 2^B has no
+/// digit at k >= B in any base, since base^k >= 2^k. A shader that knows B (OAS_STATIC_INDEX_BITS,
+/// oas_pattern.glsl; a pattern with larger N then gets NaN) folds the digit steps past it, which
+/// lavapipe would otherwise run masked: Halton at N = 128 makes 7 digits, not 24.
+#ifdef OAS_STATIC_INDEX_BITS
+#define OAS_INDEX_DIGIT_MAY_EXIST(k) ((k) < OAS_STATIC_INDEX_BITS)
+#else
+#define OAS_INDEX_DIGIT_MAY_EXIST(k) true
+#endif
+
 /// Bit-reversed index: the van der Corput sequence in base 2 (Sobol dimension 0). GLSL's
 /// bitfieldReverse: one instruction on GPUs and a few byte shuffles on lavapipe (LLVM's
 /// bitreverse), where the shift-and-mask form was 20 operations; the C++ twin's is that form
@@ -386,7 +396,7 @@ OasHaltonColumn oas_halton_column(OasPattern pat, uint seed, uint dim)
     OAS_UNROLL for (uint k = 0u; k < OAS_HALTON_ODD_BASE_DIGITS; ++k) {
         c.scale[k] = 0u;
         c.offset[k] = 0u;
-        if (c.strata < pat.N && c.strata <= strataLimit) {
+        if (OAS_INDEX_DIGIT_MAY_EXIST(k) && c.strata < pat.N && c.strata <= strataLimit) {
             key = key * 0x2c1b3c6du + 0x297a2d39u;
             c.scale[k] = 1u + oas_mulhi(key, c.base - 1u);
             key = key * 0x2c1b3c6du + 0x297a2d39u;
@@ -398,7 +408,7 @@ OasHaltonColumn oas_halton_column(OasPattern pat, uint seed, uint dim)
     // Read only when all fifteen steps ran (then key is the same as if it had always advanced).
     c.flips = oas_pcg(key);
     OAS_UNROLL for (uint k = OAS_HALTON_ODD_BASE_DIGITS; k < OAS_INDEX_BITS; ++k) {
-        if (c.base == 2u && c.strata < pat.N) {  // strata <= 2^23 here, so within the limit
+        if (OAS_INDEX_DIGIT_MAY_EXIST(k) && c.base == 2u && c.strata < pat.N) {  // strata <= 2^23: within the limit
             c.strata *= 2u;
             c.digits += 1u;
         }
@@ -417,7 +427,7 @@ float oas_halton_column_dim(OasPattern pat, OasHaltonColumn c, uint index)
     uint i = c.block == 0u ? index : oas_permute(index, pat.N, c.shuffleSeed);
     uint m = 0u;
     OAS_UNROLL for (uint k = 0u; k < OAS_HALTON_ODD_BASE_DIGITS; ++k) {
-        if (k < c.digits) {
+        if (OAS_INDEX_DIGIT_MAY_EXIST(k) && k < c.digits) {
             uint next = oas_fastdiv(i, c.recipBase, c.shiftBase);
             uint d = i - next * c.base;
             i = next;
@@ -427,7 +437,7 @@ float oas_halton_column_dim(OasPattern pat, OasHaltonColumn c, uint index)
         }
     }
     OAS_UNROLL for (uint k = OAS_HALTON_ODD_BASE_DIGITS; k < OAS_INDEX_BITS; ++k) {
-        if (k < c.digits) {  // base 2 only
+        if (OAS_INDEX_DIGIT_MAY_EXIST(k) && k < c.digits) {  // base 2 only
             m = m * 2u + ((i & 1u) ^ ((c.flips >> (k - OAS_HALTON_ODD_BASE_DIGITS)) & 1u));
             i >>= 1u;
         }

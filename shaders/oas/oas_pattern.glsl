@@ -51,9 +51,10 @@ struct OasPattern {
 
 // A shader that evaluates one kind of pattern can fix these at compile time (for instance with
 // specialization constants) by defining OAS_STATIC_CONSTRUCTION, OAS_STATIC_OFFSET,
-// OAS_STATIC_FIELD_KIND, OAS_STATIC_FIELD_DEGREE (fieldK, or 1 where the pattern has no field) and
-// OAS_STATIC_SMALL_N (1 when N <= 65536, else 0) before including oas.glsl (oas_specialization in
-// oas_pattern.h fills them). A pattern whose own values differ gets NaN for every value
+// OAS_STATIC_FIELD_KIND, OAS_STATIC_FIELD_DEGREE (fieldK, or 1 where the pattern has no field),
+// OAS_STATIC_SMALL_N (1 when N <= 65536, else 0) and OAS_STATIC_INDEX_BITS (Halton: the bits of
+// N - 1, which bound its digit loops; 24 for the others, whose work does not depend on it) before
+// including oas.glsl (oas_specialization in oas_pattern.h fills them). A pattern whose own values differ gets NaN for every value
 // (oas_specialized_value below), not another kind's code run on its words.
 // Software rasterisers such as lavapipe run both sides of every branch, so folding the branches
 // of the constructions a shader does not use is what makes it fast there.
@@ -70,7 +71,8 @@ struct OasPattern {
 
 /// Whether `pat` is a pattern this shader's specialization was made for: every OAS_STATIC_* the
 /// shader defines equals the pattern's own value (oas_specialization in oas_pattern.h fills them;
-/// a shader with OAS_STATIC_SMALL_N = 0 takes any N, its stratum points divide the long way).
+/// a shader with OAS_STATIC_SMALL_N = 0 takes any N, its stratum points divide the long way; one
+/// with OAS_STATIC_INDEX_BITS = B takes every N <= 2^B).
 /// Always true in a shader without OAS_STATIC_*. Lanes that share a pattern agree, so a shader
 /// may branch on it (to paint an error colour, say).
 bool oas_specialization_matches(OasPattern pat)
@@ -90,6 +92,9 @@ bool oas_specialization_matches(OasPattern pat)
 #endif
 #ifdef OAS_STATIC_SMALL_N
     b = b && (OAS_STATIC_SMALL_N == 0u || pat.N <= 65536u);
+#endif
+#ifdef OAS_STATIC_INDEX_BITS  // every index < N fits the bits (24 or more: any N the library takes)
+    b = b && (OAS_STATIC_INDEX_BITS >= 24u || ((pat.N - 1u) >> OAS_STATIC_INDEX_BITS) == 0u);
 #endif
     return b;
 }

@@ -29,13 +29,14 @@
 const uint PT_ABSENT = 0xffffffffu;
 
 /// The sampler kind (oas/oas.glsl's OAS_STATIC_CONSTRUCTION, _OFFSET, _FIELD_KIND, _FIELD_DEGREE,
-/// _SMALL_N).
+/// _SMALL_N, _INDEX_BITS).
 #define PT_SAMPLER_CONSTANTS(X) \
     X(oasSpecConstruction, 0, uint, 1u, pattern.construction) \
     X(oasSpecOffset, 1, uint, 3u, pattern.offset) \
     X(oasSpecFieldKind, 2, uint, 0u, fieldKind(pattern)) \
     X(oasSpecFieldDegree, 3, uint, 1u, fieldDegree(pattern)) \
-    X(oasSpecSmallN, 4, uint, 0u, smallN(pattern))
+    X(oasSpecSmallN, 4, uint, 0u, smallN(pattern)) \
+    X(oasSpecIndexBits, 5, uint, 24u, indexBits(pattern))
 
 /// The effects and the dimension plan (host/render/plan.hpp): where each effect's sample
 /// dimensions land, PT_ABSENT where the scene does not call for the effect. The CPU tracer reads

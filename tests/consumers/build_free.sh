@@ -13,7 +13,7 @@ mkdir -p "$work"
 
 check() {  # $1: the program's output file
     grep -q "refused: 63 is not a square q^2; nearest valid spp: 49, 64" "$1" || { cat "$1"; echo "FAIL: refusal"; exit 1; }
-    grep -q "specialization: construction=1 offset=3 fieldKind=1 fieldDegree=3 smallN=1" "$1" ||
+    grep -q "specialization: construction=1 offset=3 fieldKind=1 fieldDegree=3 smallN=1 indexBits=24" "$1" ||
         { cat "$1"; echo "FAIL: specialization"; exit 1; }
     grep -q "pattern: construction=1 offset=3 N=64 s=8 " "$1" || { cat "$1"; echo "FAIL: pattern words"; exit 1; }
 }

@@ -1,6 +1,6 @@
 #version 450
 // A consumer that specializes the include on one pattern kind, as docs/EMBEDDING.md advises (all
-// five OAS_STATIC_* from specialization constants, filled by oas_specialization), and is then
+// six OAS_STATIC_* from specialization constants, filled by oas_specialization), and is then
 // handed patterns of other kinds. One invocation per sample of one pixel writes `dims` values
 // through oas_sample and the same dimensions through oas_draw. tests/specialization_test.cpp checks
 // that a matching pattern gives the CPU twin's values bit for bit and any other gives NaN in every
@@ -12,11 +12,13 @@ layout(constant_id = 1) const uint specOffset = 3u;
 layout(constant_id = 2) const uint specFieldKind = 0u;
 layout(constant_id = 3) const uint specFieldDegree = 1u;
 layout(constant_id = 4) const uint specSmallN = 1u;
+layout(constant_id = 5) const uint specIndexBits = 24u;
 #define OAS_STATIC_CONSTRUCTION specConstruction
 #define OAS_STATIC_OFFSET specOffset
 #define OAS_STATIC_FIELD_KIND specFieldKind
 #define OAS_STATIC_FIELD_DEGREE specFieldDegree
 #define OAS_STATIC_SMALL_N specSmallN
+#define OAS_STATIC_INDEX_BITS specIndexBits
 
 layout(std430, binding = 1) readonly buffer Directions { uint directions[]; };  // oas::sobolDirections()
 #define OAS_SOBOL_DIRECTION(dim, bit) directions[(dim) * 32u + (bit)]
