@@ -141,8 +141,18 @@ void main()
                         OAS_WRITE(outAt + k * params.dims + c, oas_sobol_column_dim(params.pattern, column, first + k));
                 } else {
                     OasHaltonColumn column = oas_halton_column(params.pattern, passSeed, firstDim + c);
-                    for (uint k = 0u; k < inPass; ++k)
-                        OAS_WRITE(outAt + k * params.dims + c, oas_halton_column_dim(params.pattern, column, first + k));
+                    // Block 0's indices are the samples' own, so each follows the last by a carry
+                    // (oas_halton_cursor_next) rather than two divisions per digit. The branch
+                    // stands outside the loops: lavapipe runs both sides of a branch, but a loop
+                    // whose lanes are all off ends after one masked pass.
+                    if (column.block == 0u) {
+                        OasHaltonCursor r = oas_halton_cursor(column, first);
+                        for (uint k = 0u; k < inPass; ++k, r = oas_halton_cursor_next(column, r))
+                            OAS_WRITE(outAt + k * params.dims + c, oas_halton_cursor_value(params.pattern, column, r, first + k));
+                    } else {
+                        for (uint k = 0u; k < inPass; ++k)
+                            OAS_WRITE(outAt + k * params.dims + c, oas_halton_column_dim(params.pattern, column, first + k));
+                    }
                 }
             }
             index += inPass;

@@ -238,3 +238,49 @@ TEST(BaselineColumns, RefusesRunsThatLeaveTheirPassAndOrthogonalArrays)
 }
 
 }  // namespace
+
+TEST(HaltonCursor, EachCarryLandsOnTheDigitsThatDividingGives)
+{
+    // The generation kernel steps a Halton column's cursor from sample to sample by carries
+    // (oas_halton_cursor_next) instead of dividing each index into digits (oas_halton_cursor). The
+    // two must agree in every digit, permuted digit and high part, and so in the value, at every
+    // index: exhaustively through whole passes where N is small (bases 2 .. 29, N a power of the
+    // base, one past it, prime), and over stretches that cross the carries into digit 15 and
+    // beyond where N is large (base 2 with 17 and 24 digits; base 3 capped at 15 digits, where
+    // indices pass 3^15 and the carry leaves the digits).
+    namespace glsl = oas::glsl;
+    std::size_t compared = 0;
+    for (std::uint32_t spp : {1u, 2u, 121u, 128u, 243u, 244u, 131075u, 16777216u}) {
+        oas::PatternRequest request;
+        request.sampler = "halton";
+        request.spp = spp;
+        const oas::Pattern p = oas::makePattern(request);
+        const glsl::OasPattern pat = glsl::toGlsl(p);
+        std::vector<std::uint32_t> starts = {0u};
+        std::uint32_t stretch = spp - 1;
+        if (spp > 4096) {
+            starts = {0u, 32768u - 2000u, 14348907u - 2000u, spp - 4001u};  // 2^15, 3^15
+            stretch = 4000;
+        }
+        for (std::uint32_t dim = 0; dim < 10; ++dim)
+            for (std::uint32_t seed : {0u, 0x51ed270bu}) {
+                const glsl::OasHaltonColumn column = glsl::oas_halton_column(pat, seed, dim);
+                for (std::uint32_t first : starts) {
+                    if (first >= spp) continue;
+                    glsl::OasHaltonCursor stepped = glsl::oas_halton_cursor(column, first);
+                    for (std::uint32_t k = 1; k <= stretch && first + k < spp; ++k, ++compared) {
+                        stepped = glsl::oas_halton_cursor_next(column, stepped);
+                        const glsl::OasHaltonCursor divided = glsl::oas_halton_cursor(column, first + k);
+                        ASSERT_TRUE(std::equal(std::begin(stepped.digit), std::end(stepped.digit), std::begin(divided.digit)) &&
+                                    std::equal(std::begin(stepped.permuted), std::end(stepped.permuted),
+                                               std::begin(divided.permuted)) &&
+                                    stepped.high == divided.high)
+                            << "N " << spp << ", dim " << dim << " (base " << column.base << "), index " << first + k;
+                        ASSERT_EQ(glsl::oas_halton_cursor_value(pat, column, stepped, first + k),
+                                  glsl::oas_halton_column_dim(pat, column, first + k));
+                    }
+                }
+            }
+    }
+    EXPECT_GT(compared, 500000u);
+}

@@ -121,7 +121,8 @@
 //   - Fixed work. Each loop's trip count is the largest case the numeric contract allows: 12 bits
 //     of a GF(2^k) element, 5 digits of an odd extension field's element, t <= 8 Bush digits, 12
 //     exponent bits of an inverse, 5 exponent bits of CMJND's digit place, 24 bits of a (0,2)
-//     index, 24 Halton digits (15 for any base, 9 more for base 2), 32 bits of a Sobol index.
+//     index, 24 Halton digits (15 for any base, 9 more for base 2; the bits of N - 1 in a shader
+//     specialized with OAS_STATIC_INDEX_BITS), 32 bits of a Sobol index.
 //     Steps past the pattern's own k, t or digit count are masked. A value therefore costs the
 //     same for every pattern of a kind, and lanes stay in lock step.
 //   - Fetch the dimensions you need at one call site, not at every use: one oas_draw per group

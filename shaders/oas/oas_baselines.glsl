@@ -421,30 +421,77 @@ OasHaltonColumn oas_halton_column(OasPattern pat, uint seed, uint dim)
     return c;
 }
 
-/// Sample `index` (< N) of the Halton dimension that `c` was made for.
-float oas_halton_column_dim(OasPattern pat, OasHaltonColumn c, uint index)
+/// Where sample `i` stands in one Halton dimension: its index's digits in the column's base and
+/// their permuted values, so that the next sample's follow by a carry (oas_halton_cursor_next)
+/// where a cold start divides by the base twice per digit. Digits 0 .. 14 (every base), then
+/// base 2's digits 15 .. 23 as the bits of `high`.
+struct OasHaltonCursor {
+    uint digit[OAS_HALTON_ODD_BASE_DIGITS];     ///< the index's digits, least significant first
+    uint permuted[OAS_HALTON_ODD_BASE_DIGITS];  ///< digit k through digit k's permutation
+    uint high;                                  ///< what is left of the index above digit 14
+};
+
+/// The cursor of index `i` (already shuffled, for blocks past the first) in the column `c`.
+OasHaltonCursor oas_halton_cursor(OasHaltonColumn c, uint i)
 {
-    uint i = c.block == 0u ? index : oas_permute(index, pat.N, c.shuffleSeed);
-    uint m = 0u;
+    OasHaltonCursor r;
     OAS_UNROLL for (uint k = 0u; k < OAS_HALTON_ODD_BASE_DIGITS; ++k) {
+        r.digit[k] = 0u;
+        r.permuted[k] = 0u;
         if (OAS_INDEX_DIGIT_MAY_EXIST(k) && k < c.digits) {
             uint next = oas_fastdiv(i, c.recipBase, c.shiftBase);
-            uint d = i - next * c.base;
+            r.digit[k] = i - next * c.base;
             i = next;
-            uint permuted = c.scale[k] * d + c.offset[k];  // < base^2
-            uint pd = permuted - oas_fastdiv(permuted, c.recipBase, c.shiftBase) * c.base;
-            m = m * c.base + pd;  // digit k lands at base^-(k+1): reversed order builds m
+            uint permuted = c.scale[k] * r.digit[k] + c.offset[k];  // < base^2
+            r.permuted[k] = permuted - oas_fastdiv(permuted, c.recipBase, c.shiftBase) * c.base;
         }
     }
-    OAS_UNROLL for (uint k = OAS_HALTON_ODD_BASE_DIGITS; k < OAS_INDEX_BITS; ++k) {
-        if (OAS_INDEX_DIGIT_MAY_EXIST(k) && k < c.digits) {  // base 2 only
-            m = m * 2u + ((i & 1u) ^ ((c.flips >> (k - OAS_HALTON_ODD_BASE_DIGITS)) & 1u));
-            i >>= 1u;
+    r.high = i;
+    return r;
+}
+
+/// The cursor of the index after r's. The permutation d -> scale d + offset mod base moves by
+/// scale when d steps up, and a digit that wraps from base - 1 to 0 lands on offset, which is
+/// the same step mod base: so each digit adds scale where a carry arrives, and subtracts base
+/// when it passes it. Only compares and adds, where oas_halton_cursor divides; for runs of
+/// consecutive samples of one pass (the generation kernel's, block 0, whose indices are not
+/// shuffled). The carry out of the column's last digit goes to `high`, which only base 2 reads.
+OasHaltonCursor oas_halton_cursor_next(OasHaltonColumn c, OasHaltonCursor r)
+{
+    uint carry = 1u;
+    OAS_UNROLL for (uint k = 0u; k < OAS_HALTON_ODD_BASE_DIGITS; ++k) {
+        if (OAS_INDEX_DIGIT_MAY_EXIST(k) && k < c.digits) {
+            uint wraps = carry != 0u && r.digit[k] == c.base - 1u ? 1u : 0u;
+            r.digit[k] = wraps != 0u ? 0u : r.digit[k] + carry;
+            uint p = r.permuted[k] + (carry != 0u ? c.scale[k] : 0u);  // < 2 base
+            r.permuted[k] = p >= c.base ? p - c.base : p;
+            carry = wraps;
         }
+    }
+    r.high += carry;
+    return r;
+}
+
+/// The value of the sample at cursor r (sample `index`, before any shuffle: the jitter's key).
+float oas_halton_cursor_value(OasPattern pat, OasHaltonColumn c, OasHaltonCursor r, uint index)
+{
+    uint m = 0u;
+    OAS_UNROLL for (uint k = 0u; k < OAS_HALTON_ODD_BASE_DIGITS; ++k)
+        if (OAS_INDEX_DIGIT_MAY_EXIST(k) && k < c.digits) m = m * c.base + r.permuted[k];  // digit k at base^-(k+1)
+    OAS_UNROLL for (uint k = OAS_HALTON_ODD_BASE_DIGITS; k < OAS_INDEX_BITS; ++k) {
+        uint bit = k - OAS_HALTON_ODD_BASE_DIGITS;
+        if (OAS_INDEX_DIGIT_MAY_EXIST(k) && k < c.digits) m = m * 2u + (((r.high ^ c.flips) >> bit) & 1u);  // base 2 only
     }
     uint jitter = oas_hash2(c.jitterSeed, index);
     return oas_specialized_value(
         pat, oas_stratum_point_divided(m, c.strata, c.recipStrata, c.shiftStrata, jitter, OAS_SMALL_STRATA_ANY_N(c.strata)));
+}
+
+/// Sample `index` (< N) of the Halton dimension that `c` was made for.
+float oas_halton_column_dim(OasPattern pat, OasHaltonColumn c, uint index)
+{
+    uint i = c.block == 0u ? index : oas_permute(index, pat.N, c.shuffleSeed);
+    return oas_halton_cursor_value(pat, c, oas_halton_cursor(c, i), index);
 }
 
 /// Baseline samplers. `index` < N; passes (index >= N) are handled by oas_sample.
