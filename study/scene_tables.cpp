@@ -53,6 +53,20 @@ SceneTables::SceneTables(const std::vector<SceneRecord>& infos, const std::vecto
     }
 }
 
+std::vector<size_t> errorTimeCurvePoints(const SceneCurve& c)
+{
+    std::vector<size_t> idx(c.spp.size());
+    for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
+    // Fastest first; of equal times, the larger count first, so that it leaves the smaller out.
+    std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) {
+        return c.seconds[a] != c.seconds[b] ? c.seconds[a] < c.seconds[b] : c.spp[a] > c.spp[b];
+    });
+    std::vector<size_t> kept;
+    for (size_t i : idx)
+        if (kept.empty() || c.spp[i] > c.spp[kept.back()]) kept.push_back(i);  // kept counts ascend with time
+    return kept;
+}
+
 const SceneCurve* SceneTables::curveOf(const std::string& scene, const std::string& sampler) const
 {
     for (const auto& c : curves)

@@ -44,6 +44,15 @@ struct SceneTables {
     Estimate randomAt(const SceneCurve* rnd, double spp, int which = 0) const;
 };
 
+/// The points of a sampler's timed curve that its error-versus-time curve runs through, in time
+/// order: a point is left out where a larger count of the same sampler took no longer, because a
+/// renderer with that budget would render the larger count. Bose CMJ at 81 spp (over GF(3²), whose
+/// products cost more) took longer on lavapipe than at 121 (GF(11)), and read through, the curve
+/// rose from 121 to 81 and gave Bose at a budget between them the error of 81 spp (cost run of
+/// 2026-12-07: 1.27x Sobol's at blue_spheres9d's T1, where its 121-spp point is below Sobol's).
+/// Chosen by count and time only, never by the measured errors, which would bias them low.
+std::vector<size_t> errorTimeCurvePoints(const SceneCurve& c);
+
 /// The count of a ladder nearest (in log) to `target`.
 double nearest(const std::vector<double>& counts, double target);
 

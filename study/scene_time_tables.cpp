@@ -65,7 +65,8 @@ std::vector<AnswerRow> writeEqualTime(const SceneTables& tables, std::ostream& m
               "storage buffers one lane at a time), so the verdicts may too.\n\n";
     else
         md << "### Error at equal time\n\n"
-           << "relMSE read off each sampler's error-versus-time curve (log-log interpolation between measured points; — "
+           << "relMSE read off each sampler's error-versus-time curve (log-log interpolation between measured points, "
+          "leaving out a point where a larger count of the sampler took no longer, as a renderer would; — "
           "where the budget lies outside the sampler's measured range) at three budgets per scene: T₁ Sobol's time at "
           "128 spp, T₂ the largest budget every sampler's curve reaches (the shortest of the samplers' longest "
           "renders), T₃ the same over the samplers that rendered the paper's high count (≥ 3969 spp: the 4096-spp "
@@ -105,12 +106,10 @@ std::vector<AnswerRow> writeEqualTime(const SceneTables& tables, std::ostream& m
         md << " |\n";
         Estimate sobAt[kBudgets], goalAt[kBudgets] = {kNoEstimate, kNoEstimate, kNoEstimate};
         std::vector<std::pair<Estimate, std::string>> ranking[kBudgets];
-        // Curves may be non-monotone in time for tiny renders (noise): sort by time.
+        // Times need not rise with the count (noise in tiny renders; a count over a costlier
+        // field): the curve runs through the points no larger count beats on time.
         auto byTime = [](const SceneCurve& c, std::vector<double>& ts, std::vector<Estimate>& es) {
-            std::vector<size_t> idx(c.spp.size());
-            for (size_t i = 0; i < idx.size(); ++i) idx[i] = i;
-            std::sort(idx.begin(), idx.end(), [&](size_t a, size_t b) { return c.seconds[a] < c.seconds[b]; });
-            for (size_t i : idx) ts.push_back(c.seconds[i]), es.push_back(c.relMseE[i]);
+            for (size_t i : errorTimeCurvePoints(c)) ts.push_back(c.seconds[i]), es.push_back(c.relMseE[i]);
         };
         {
             std::vector<double> ts;
@@ -151,11 +150,11 @@ std::vector<AnswerRow> writeEqualTime(const SceneTables& tables, std::ostream& m
             const auto& [best, bestLabel] = ranking[b].front();
             // A single best is named only where compare() separates it from the runner-up.
             const bool separated = ranking[b].size() < 2 || compare(best, ranking[b][1].first) != Verdict::Tie;
-            // The best sampler's count at this budget: its timed point nearest the budget (in log).
+            // The best sampler's count at this budget: the point of its curve nearest the budget (in log).
             double bestSpp = NAN;
             if (const SceneCurve* c = tables.timedCurveOf(info.name, bestLabel)) {
                 double gap = 1e300;
-                for (size_t i = 0; i < c->spp.size(); ++i)
+                for (size_t i : errorTimeCurvePoints(*c))
                     if (std::abs(std::log(c->seconds[i] / budgets[b])) < gap)
                         gap = std::abs(std::log(c->seconds[i] / budgets[b])), bestSpp = c->spp[i];
             }

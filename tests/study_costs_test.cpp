@@ -13,6 +13,7 @@
 #include "gpu_test_support.hpp"
 #include "scene_costs.hpp"
 #include "scene_study.hpp"
+#include "scene_tables.hpp"
 
 using namespace oas::study;
 
@@ -213,6 +214,21 @@ TEST(SceneCosts, CommittedCostRunsAreCurrentOrTheFirstScreenSaysTheyAreStale)
                 << "every cost run is current (" << renderSourcesHash() << "), but " << name << " still says " << marker;
         }
     }
+}
+
+TEST(SceneCosts, TheErrorTimeCurveSkipsACountThatALargerCountBeatsOnTime)
+{
+    // Bose CMJ's cost run on lavapipe, blue_spheres9d, 2026-12-07: 81 spp (over GF(3^2)) took
+    // 145 ms, 121 spp (GF(11)) 132 ms. A renderer with 145 ms renders 121 spp, so the curve runs
+    // 64 -> 121 -> 169 and leaves 81 out; a tie in time keeps the larger count.
+    oas::study::SceneCurve c;
+    c.spp = {16, 64, 81, 121, 169};
+    c.seconds = {0.030, 0.104, 0.145, 0.132, 0.183};
+    EXPECT_EQ(oas::study::detail::errorTimeCurvePoints(c), (std::vector<std::size_t>{0, 1, 3, 4}));
+    c.seconds = {0.030, 0.104, 0.132, 0.132, 0.183};
+    EXPECT_EQ(oas::study::detail::errorTimeCurvePoints(c), (std::vector<std::size_t>{0, 1, 3, 4}));
+    c.seconds = {0.030, 0.104, 0.120, 0.132, 0.183};  // monotone: every point
+    EXPECT_EQ(oas::study::detail::errorTimeCurvePoints(c), (std::vector<std::size_t>{0, 1, 2, 3, 4}));
 }
 
 TEST(SceneCosts, AScenesTimesMustComeFromOneRun)
