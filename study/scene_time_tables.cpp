@@ -14,7 +14,17 @@
 #include "stats.hpp"
 
 namespace oas::study::detail {
+
 namespace {
+
+/// A sampler's error-versus-time curve, times ascending: times need not rise with the count (noise
+/// in tiny renders; a count over a costlier field), so it runs through the points no larger count
+/// beats on time (errorTimeCurvePoints). Both the equal-time and the time-to-target tables read it.
+void errorTimeCurve(const SceneCurve& c, std::vector<double>& ts, std::vector<Estimate>& es)
+{
+    for (size_t i : errorTimeCurvePoints(c)) ts.push_back(c.seconds[i]), es.push_back(c.relMseE[i]);
+}
+
 
 // Where a scene has no cost run, its time tables say so instead of using pooled times.
 std::string noCostRun(const SceneRecord& info)
@@ -106,15 +116,10 @@ std::vector<AnswerRow> writeEqualTime(const SceneTables& tables, std::ostream& m
         md << " |\n";
         Estimate sobAt[kBudgets], goalAt[kBudgets] = {kNoEstimate, kNoEstimate, kNoEstimate};
         std::vector<std::pair<Estimate, std::string>> ranking[kBudgets];
-        // Times need not rise with the count (noise in tiny renders; a count over a costlier
-        // field): the curve runs through the points no larger count beats on time.
-        auto byTime = [](const SceneCurve& c, std::vector<double>& ts, std::vector<Estimate>& es) {
-            for (size_t i : errorTimeCurvePoints(c)) ts.push_back(c.seconds[i]), es.push_back(c.relMseE[i]);
-        };
         {
             std::vector<double> ts;
             std::vector<Estimate> es;
-            byTime(*sob, ts, es);
+            errorTimeCurve(*sob, ts, es);
             for (int b = 0; b < kBudgets; ++b) sobAt[b] = interpEstimate(ts, es, budgets[b], info.relSeTarget);
         }
         for (const auto& s : samplers) {
@@ -122,7 +127,7 @@ std::vector<AnswerRow> writeEqualTime(const SceneTables& tables, std::ostream& m
             if (!c) continue;
             std::vector<double> ts;
             std::vector<Estimate> es;
-            byTime(*c, ts, es);
+            errorTimeCurve(*c, ts, es);
             md << "| " << info.name << " | " << s.label;
             for (int b = 0; b < kBudgets; ++b) {
                 const Estimate e = interpEstimate(ts, es, budgets[b], info.relSeTarget);
@@ -282,19 +287,25 @@ void writeTimeToTarget(const SceneTables& tables, std::ostream& md)
         }
         const double middle = nearest(rnd->spp, std::sqrt(128.0 * info.maxSpp));
         const Estimate targets[3] = {estAt(*rnd, 128), estAt(*rnd, middle), estAt(*rnd, info.maxSpp)};
+        std::vector<double> rndTs;
+        std::vector<Estimate> rndEs;
+        errorTimeCurve(*rnd, rndTs, rndEs);
         CrossingEstimate rndTime[3];
-        for (int b = 0; b < 3; ++b) rndTime[b] = firstCrossing(rnd->seconds, rnd->relMseE, targets[b]);
+        for (int b = 0; b < 3; ++b) rndTime[b] = firstCrossing(rndTs, rndEs, targets[b]);
         md << "| " << info.name << " | *targets*";
         for (int b = 0; b < 3; ++b) md << " | relMSE " << fmtEstimate(targets[b]) << " | |";
         md << " |\n";
         for (const auto& s : samplers) {
             const SceneCurve* c = tables.timedCurveOf(info.name, s.label);
             if (!c) continue;
+            std::vector<double> ts;
+            std::vector<Estimate> es;
+            errorTimeCurve(*c, ts, es);
             md << "| " << info.name << " | " << s.label;
             for (int b = 0; b < 3; ++b) {
-                const CrossingEstimate x = firstCrossing(c->seconds, c->relMseE, targets[b]);
+                const CrossingEstimate x = firstCrossing(ts, es, targets[b]);
                 if (!x.crossing.found) {
-                    md << " | > " << fmtF(c->seconds.back() * 1000, 0) << " | — | —";
+                    md << " | > " << fmtF(ts.back() * 1000, 0) << " | — | —";
                     continue;
                 }
                 Estimate ms = x.x;
