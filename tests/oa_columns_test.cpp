@@ -156,8 +156,8 @@ TEST(OaColumns, RefusesRunsThatLeaveTheirPassAndBaselinesNamingTheLimit)
 TEST(BaselineColumns, EveryBaselineEqualsOasSampleBitForBit)
 {
     // Every baseline the library names, N a square, a prime, a power of two and 2^24; runs that
-    // start anywhere in a pass (pass 0, a later pass, the last whole pass before the index wraps)
-    // and are longer than the Sobol loop's 256-point stretches; dimensions across the Halton (32),
+    // start anywhere in a pass (pass 0, a later pass, the last whole pass before the index wraps,
+    // the pass's last 600 indices, where every index bit below N takes part) and are longer than the Sobol loop's 256-point stretches; dimensions across the Halton (32),
     // Sobol-Burley (4) and Sobol (1024) blocks; both instruction sets' loops.
     std::size_t compared = 0;
     for (const auto& name : oas::samplerNames()) {
@@ -171,7 +171,7 @@ TEST(BaselineColumns, EveryBaselineEqualsOasSampleBitForBit)
                 const oas::BaselineColumns columns(p, isa);
                 std::vector<float> out(600);
                 const std::uint32_t lastPass = (0xffffffffu / spp - 1) * spp;  // the last whole pass
-                for (std::uint32_t firstIndex : {0u, 5u, 3 * spp + 1, lastPass + 2})
+                for (std::uint32_t firstIndex : {0u, 5u, 3 * spp + 1, lastPass + 2, spp - std::min(spp, 600u)})
                     for (std::uint32_t dim : {0u, 1u, 2u, 3u, 4u, 7u, 31u, 32u, 33u, 1023u, 1024u, 1025u, 5000u})
                         for (std::uint32_t seed : {0u, 0x9e3779b9u}) {
                             const std::uint32_t count = std::min({columns.samplesLeftInPass(firstIndex), 600u, spp});

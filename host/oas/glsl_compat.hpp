@@ -13,6 +13,17 @@
 
 #include "oas/pattern.hpp"
 
+namespace oas {
+/// sobolDirections().data(), kept in an inline function's static: an inlined guard test per
+/// direction number, where a call to sobolDirections() per number was 7% of the CPU's Sobol
+/// values in perf (docs/BENCHMARKS.md).
+inline const std::uint32_t* sobolDirectionData()
+{
+    static const std::uint32_t* const data = sobolDirections().data();
+    return data;
+}
+}  // namespace oas
+
 namespace oas::glsl {
 namespace {
 
@@ -79,8 +90,9 @@ inline uint min(uint a, uint b)
 #define OAS_RUNTIME_BRANCHES
 #endif
 
-// The C++ twin has the Sobol baseline: its direction numbers come from the host's table.
-#define OAS_SOBOL_DIRECTION(dim, bit) (::oas::sobolDirections()[(dim)*32u + (bit)])
+// The C++ twin has the Sobol baseline: its direction numbers come from the host's table
+// (sobolDirectionData, above).
+#define OAS_SOBOL_DIRECTION(dim, bit) (::oas::sobolDirectionData()[(dim)*32u + (bit)])
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
