@@ -472,8 +472,11 @@ OasHaltonCursor oas_halton_cursor_next(OasHaltonColumn c, OasHaltonCursor r)
     return r;
 }
 
-/// The value of the sample at cursor r (sample `index`, before any shuffle: the jitter's key).
-float oas_halton_cursor_value(OasPattern pat, OasHaltonColumn c, OasHaltonCursor r, uint index)
+/// The stratum of cursor r: its permuted digits read as an integer below c.strata, digit 0 the
+/// most significant (digit k at base^-(k+1) of the radical inverse). A sum of one term per digit,
+/// so the stratum of i = g base^L + j is that of g base^L plus that of j less that of 0, which
+/// the CPU's bulk loop uses (host/oas/baseline_columns_loops.inc).
+uint oas_halton_cursor_stratum(OasHaltonColumn c, OasHaltonCursor r)
 {
     uint m = 0u;
     OAS_UNROLL for (uint k = 0u; k < OAS_HALTON_ODD_BASE_DIGITS; ++k)
@@ -482,9 +485,21 @@ float oas_halton_cursor_value(OasPattern pat, OasHaltonColumn c, OasHaltonCursor
         uint bit = k - OAS_HALTON_ODD_BASE_DIGITS;
         if (OAS_INDEX_DIGIT_MAY_EXIST(k) && k < c.digits) m = m * 2u + (((r.high ^ c.flips) >> bit) & 1u);  // base 2 only
     }
+    return m;
+}
+
+/// The value of sample `index` (before any shuffle: the jitter's key) in stratum m of column c.
+float oas_halton_stratum_value(OasPattern pat, OasHaltonColumn c, uint m, uint index)
+{
     uint jitter = oas_hash2(c.jitterSeed, index);
     return oas_specialized_value(
         pat, oas_stratum_point_divided(m, c.strata, c.recipStrata, c.shiftStrata, jitter, OAS_SMALL_STRATA_ANY_N(c.strata)));
+}
+
+/// The value of the sample at cursor r (sample `index`, before any shuffle: the jitter's key).
+float oas_halton_cursor_value(OasPattern pat, OasHaltonColumn c, OasHaltonCursor r, uint index)
+{
+    return oas_halton_stratum_value(pat, c, oas_halton_cursor_stratum(c, r), index);
 }
 
 /// Sample `index` (< N) of the Halton dimension that `c` was made for.
