@@ -19,7 +19,7 @@
 # those pixels (--scene-rare-pixels, --scene-max-rare-renders).
 # With --workers W or --scheduler tcp://HOST:PORT the scene part's accuracy renders run on Dask
 # workers instead (scripts/study_cluster.py, its options; the same error figures, byte for byte,
-# for any number of workers). Only that part: run the others (--parts analytic pairs spectra cost
+# for any number of workers). Only that part: run the others (--parts analytic pairs progressive spectra cost
 # scene-costs) without --workers, on one machine.
 # Plots need Debian's python3-matplotlib, installed here when missing.
 set -euo pipefail

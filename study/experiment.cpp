@@ -85,6 +85,34 @@ std::uint32_t nearestCount(const SamplerSpec& s, std::uint32_t dims, std::uint32
     return best;
 }
 
+std::vector<Stats> statsOf(const std::vector<double>& est, std::size_t nf, std::uint32_t trials,
+                           const std::vector<double>& references)
+{
+    std::vector<Stats> out(nf);
+    for (size_t f = 0; f < nf; ++f) {
+        double mean = 0, mse = 0, mse2 = 0;
+        for (std::uint32_t t = 0; t < trials; ++t) {
+            const double e = est[size_t(t) * nf + f];
+            const double d2 = (e - references[f]) * (e - references[f]);
+            mean += e;
+            mse += d2;
+            mse2 += d2 * d2;
+        }
+        mean /= trials;
+        mse /= trials;
+        double var = 0;
+        for (std::uint32_t t = 0; t < trials; ++t) {
+            const double d = est[size_t(t) * nf + f] - mean;
+            var += d * d;
+        }
+        out[f].mean = mean;
+        out[f].mse = mse;
+        out[f].variance = trials > 1 ? var / (trials - 1) : 0;
+        out[f].mseStderr = trials > 1 ? std::sqrt(std::max(0.0, mse2 / trials - mse * mse) / (trials - 1)) : 0;
+    }
+    return out;
+}
+
 std::vector<Stats> measure(const oas::Pattern& pattern, const std::vector<Integrand>& fs, const std::vector<double>& references,
                            std::uint32_t dims, std::uint32_t spp, std::uint32_t trials, std::uint32_t seed, unsigned threads)
 {
@@ -134,29 +162,7 @@ std::vector<Stats> measure(const oas::Pattern& pattern, const std::vector<Integr
                 est[size_t(b0 + px) * nf + f] = sum / spp;
             }
     }
-    std::vector<Stats> out(nf);
-    for (size_t f = 0; f < nf; ++f) {
-        double mean = 0, mse = 0, mse2 = 0;
-        for (std::uint32_t t = 0; t < trials; ++t) {
-            const double e = est[size_t(t) * nf + f];
-            const double d2 = (e - references[f]) * (e - references[f]);
-            mean += e;
-            mse += d2;
-            mse2 += d2 * d2;
-        }
-        mean /= trials;
-        mse /= trials;
-        double var = 0;
-        for (std::uint32_t t = 0; t < trials; ++t) {
-            const double d = est[size_t(t) * nf + f] - mean;
-            var += d * d;
-        }
-        out[f].mean = mean;
-        out[f].mse = mse;
-        out[f].variance = trials > 1 ? var / (trials - 1) : 0;
-        out[f].mseStderr = trials > 1 ? std::sqrt(std::max(0.0, mse2 / trials - mse * mse) / (trials - 1)) : 0;
-    }
-    return out;
+    return statsOf(est, nf, trials, references);
 }
 
 std::vector<Reference> rqmcReference(const std::vector<Integrand>& fs, std::uint32_t dims, std::uint32_t log2n,

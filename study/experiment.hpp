@@ -39,6 +39,11 @@ struct Stats {
     double variance = 0;   ///< unbiased sample variance of the estimates (no reference needed)
 };
 
+/// Per-integrand statistics of `trials` estimates of nf integrands (est[trial * nf + f]) against
+/// `references` (nf values).
+std::vector<Stats> statsOf(const std::vector<double>& est, std::size_t nf, std::uint32_t trials,
+                           const std::vector<double>& references);
+
 /// Runs `trials` independent N-sample estimates of every integrand (same point sets for all),
 /// one pixel seed each (pixels [0, trials) of row 0, user seed `seed`), and returns per-integrand
 /// statistics against `references` (same order as fs).

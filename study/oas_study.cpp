@@ -23,6 +23,7 @@
 #include "cost_study.hpp"
 #include "experiment.hpp"
 #include "pair_study.hpp"
+#include "progressive_part.hpp"
 #include "scene_costs.hpp"
 #include "scene_study.hpp"
 #include "spectrum.hpp"
@@ -148,7 +149,8 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
         }
     }
     const std::string cost = readFile(outDir + "/cost.md"), analytic = readFile(outDir + "/analytic.md"),
-                      spectra = readFile(outDir + "/spectra.md"), pairs = readFile(outDir + "/pairs.md");
+                      spectra = readFile(outDir + "/spectra.md"), pairs = readFile(outDir + "/pairs.md"),
+                      progressive = readFile(outDir + "/progressive.md");
     std::ostringstream o;
     o << "# Study: which sampler should I use, and at what cost?\n\n"
       << answer
@@ -198,8 +200,10 @@ void assembleStudy(const std::string& studyMd, const std::string& outDir)
             }
         }
     }
+    if (const size_t at = progressive.find("- Goal (the progressive"); at != std::string::npos)
+        o << "- Progressive: " << progressive.substr(at + 2, progressive.find('\n', at) - at - 2) << "\n";
     o << goalLines(scenes) << "\n";
-    for (const std::string* part : {static_cast<const std::string*>(&scenes), &cost, &spectra, &analytic, &pairs})
+    for (const std::string* part : {static_cast<const std::string*>(&scenes), &cost, &spectra, &analytic, &progressive, &pairs})
         if (!part->empty()) o << *part << "\n";
     writeSection(studyMd, o.str());
 }
@@ -241,7 +245,7 @@ int main(int argc, char** argv)
     app.add_option("--rqmc-reps", rqmcReps, "RQMC reference: replicates (64)");
     app.add_option("--out-dir", outDir, "output folder for CSVs, slopes.md and plots (docs/study)");
     app.add_option("--study-md", studyMd, "summary markdown (docs/STUDY.md); empty: none");
-    std::vector<std::string> parts = {"analytic", "pairs", "spectra", "cost", "scenes", "scene-costs"}, sceneNames;
+    std::vector<std::string> parts = {"analytic", "pairs", "progressive", "spectra", "cost", "scenes", "scene-costs"}, sceneNames;
     std::uint32_t costRounds = 3;
     std::string scenesDir = "scenes";
     std::uint32_t sceneWidth = 0, sceneMaxSpp = 0, sceneMinTrials = 0, sceneMaxTrials = 0, referenceSpp = 0;
@@ -257,11 +261,11 @@ int main(int argc, char** argv)
         ->check(CLI::IsMember({"gpu", "cpu"}));
     app.add_option(
            "--parts", parts,
-           "parts to run: analytic pairs spectra cost scenes scene-costs (default: all; scene-costs "
+           "parts to run: analytic pairs progressive spectra cost scenes scene-costs (default: all; scene-costs "
            "times the measured scene points in one run per scene, --scene to choose), or none (only reassemble "
            "the scene section from its data files, STUDY.md, and redraw); STUDY.md is assembled from every part's section in the "
            "output folder")
-        ->check(CLI::IsMember({"analytic", "pairs", "spectra", "cost", "scenes", "scene-costs", "none"}));
+        ->check(CLI::IsMember({"analytic", "pairs", "progressive", "spectra", "cost", "scenes", "scene-costs", "none"}));
     app.add_option("--scenes-dir", scenesDir, "scene folder (scenes)");
     app.add_option("--scene", sceneNames, "scenes to study (default: cornell7d blue_spheres9d interior_deep)");
     app.add_option("--scene-width", sceneWidth, "scene render width (quick 32, full 64)")->check(CLI::Range(8u, 1024u));
@@ -409,6 +413,16 @@ int main(int argc, char** argv)
             po.command = command;
             po.quick = quick;
             writeSection(outDir + "/pairs.md", stamped(runPairStudy(po)));
+        }
+        if (wants("progressive")) {
+            ProgressiveOptions po;
+            po.trials = quick ? 256 : 2048;
+            po.maxSpp = quick ? 1024 : 4096;
+            po.threads = threads;
+            po.outDir = outDir;
+            po.command = command;
+            po.quick = quick;
+            writeSection(outDir + "/progressive.md", stamped(runProgressiveStudy(po)));
         }
         if (wants("spectra")) {
             runProjections();

@@ -9,6 +9,7 @@
 #include "experiment.hpp"
 #include "integrands.hpp"
 #include "pair_study.hpp"
+#include "progressive_part.hpp"
 #include "stats.hpp"
 
 using namespace oas::study;
@@ -236,4 +237,30 @@ TEST(StudyLadder, NearestCountPicksTheClosestValidCountInLog)
     EXPECT_EQ(nearestCount(spec("AddelmanKempthorneCMJ"), 7, 4096), 4418u);
     // Nothing within 2^(1/4): 0.
     EXPECT_EQ(nearestCount(spec("Sobol"), 7, 724), 0u);
+}
+
+TEST(ProgressiveStudy, EveryCheckpointIsStratifiedInEachDimension)
+{
+    // Every prefix of q^m samples of a (0,s)-sequence in base q is a (0,m,s)-net, so in each
+    // dimension exactly one of its points lies in each interval [k / q^m, (k + 1) / q^m). A
+    // binary step's estimate then errs only in the interval holding the step: by at most 1 / N
+    // per dimension, D / N for the 1-additive sum. An unstratified prefix (independent points, or
+    // q independent arrays of q^2 points at N = q^3) errs by about sqrt(D / N) / 4 and breaks it
+    // in most trials. The checkpoint estimates are running sums of one run each, so this also
+    // checks that each is its own prefix's mean and not the last's.
+    for (const auto& [q, dims] : {std::pair{4u, 4u}, std::pair{5u, 4u}, std::pair{3u, 3u}, std::pair{8u, 8u}}) {
+        const std::vector<Integrand> fs = {{Combo::Additive1, Kernel::BinaryStep, dims}};
+        const double reference = closedFormReference(fs[0]).value;
+        EXPECT_NEAR(reference, dims * kREnd, 1e-12);
+        const auto checkpoints = progressiveCheckpoints(q, 1024);
+        ASSERT_GE(checkpoints.size(), 2u);
+        EXPECT_EQ(checkpoints.front(), q * q);
+        const auto est = faurePrefixEstimates(q, fs, dims, checkpoints, 64, 7, 2);
+        ASSERT_EQ(est.size(), checkpoints.size());
+        for (std::size_t c = 0; c < checkpoints.size(); ++c)
+            for (std::uint32_t t = 0; t < 64; ++t)
+                ASSERT_LE(std::abs(est[c][t] - reference), double(dims) / checkpoints[c] + 1e-12)
+                    << "q " << q << ", N " << checkpoints[c] << ", trial " << t;
+    }
+    EXPECT_THROW(faurePrefixEstimates(4, {{Combo::Additive1, Kernel::BinaryStep, 5}}, 5, {16}, 1, 0, 1), std::invalid_argument);
 }
