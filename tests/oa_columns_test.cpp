@@ -284,3 +284,36 @@ TEST(HaltonCursor, EachCarryLandsOnTheDigitsThatDividingGives)
     }
     EXPECT_GT(compared, 500000u);
 }
+
+TEST(Columns, AnEmptyRunWritesNothingForEverySampler)
+{
+    // A run of no samples is a valid request (a caller's loop may end on one): it must write
+    // nothing and return, from the start, the middle and the end of a pass.
+    for (const auto& name : oas::samplerNames()) {
+        oas::PatternRequest r;
+        r.sampler = name;
+        r.spp = name == "cmjnd" ? 64 : 121;
+        if (name == "bush") r.strength = 3, r.spp = 125;
+        if (name == "bose-bush") r.spp = 128;
+        if (name == "addelman-kempthorne") r.spp = 98;
+        const oas::Pattern p = oas::makePattern(r);
+        std::vector<std::uint32_t> rows(4, 7u);
+        std::vector<float> out(4, -1.0f), outY(4, -1.0f);
+        for (std::uint32_t firstIndex : {0u, p.N / 2, p.N - 1, p.N}) {
+            for (oas::CpuIsa isa : {oas::CpuIsa::Baseline, oas::CpuIsa::Avx2}) {
+                if (oas::isOrthogonalArray(name)) {
+                    const oas::OaColumns columns(p, isa);
+                    columns.rows(1u, 0u, firstIndex, 0u, rows.data());
+                    columns.values(1u, 0u, firstIndex, 0u, rows.data(), out.data());
+                } else {
+                    const oas::BaselineColumns columns(p, isa);
+                    columns.values(1u, 0u, firstIndex, 0u, out.data());
+                    if (columns.padded2d()) columns.pairValues(1u, 0u, firstIndex, 0u, out.data(), outY.data());
+                }
+                EXPECT_EQ(rows, std::vector<std::uint32_t>(4, 7u)) << name;
+                EXPECT_EQ(out, std::vector<float>(4, -1.0f)) << name;
+                EXPECT_EQ(outY, std::vector<float>(4, -1.0f)) << name;
+            }
+        }
+    }
+}

@@ -95,6 +95,7 @@ void BaselineColumns::pairValues(std::uint32_t pixelSeed, std::uint32_t firstDim
         throw InvalidArgument("BaselineColumns::pairValues: " + describe(pattern_) + ", first dimension " +
                               std::to_string(firstDim) + ": needs a padded 2D pattern and an even first dimension");
     checkRun(firstIndex, count);
+    if (count == 0) return;  // an empty run writes nothing
     const glsl::OasPattern pat = glsl::toGlsl(pattern_);
     const uint pass = glsl::oas_div_n(pat, firstIndex);
     const uint passSeed = glsl::oas_pass_seed(pixelSeed, pass), first = firstIndex - pass * pat.N;
@@ -113,6 +114,7 @@ void BaselineColumns::values(std::uint32_t pixelSeed, std::uint32_t dim, std::ui
                              float* out) const
 {
     checkRun(firstIndex, count);
+    if (count == 0) return;  // an empty run writes nothing (the Halton loop counts groups to first + count - 1)
     const glsl::OasPattern pat = glsl::toGlsl(pattern_);
     // oas_baseline_sample, split: the pass and its seed are the run's.
     const uint pass = glsl::oas_div_n(pat, firstIndex);
