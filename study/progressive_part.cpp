@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -95,11 +96,17 @@ std::vector<std::vector<double>> faurePrefixEstimates(std::uint32_t q, const std
                                                       const std::vector<std::uint32_t>& checkpoints, std::uint32_t trials,
                                                       std::uint32_t seed, unsigned threads)
 {
-    if (dims > q || checkpoints.empty() || !std::is_sorted(checkpoints.begin(), checkpoints.end()))
-        throw std::invalid_argument("faurePrefixEstimates: needs dims <= q and ascending checkpoints");
+    if (dims == 0 || dims > q || checkpoints.empty() || checkpoints.front() == 0 ||
+        std::adjacent_find(checkpoints.begin(), checkpoints.end(), std::greater_equal<>()) != checkpoints.end())
+        throw std::invalid_argument("faurePrefixEstimates: needs 1 <= dims <= q and strictly ascending checkpoints from 1");
     const std::uint32_t last = checkpoints.back();
     std::uint32_t digits = 0;  // K: q^K >= the last checkpoint, so its indices have K digits
-    for (std::uint64_t n = 1; n < last; n *= q) ++digits;
+    std::uint64_t strata = 1;
+    for (; strata < last; strata *= q) ++digits;
+    if (digits > glsl::OAS_FAURE_MAX_DIGITS || strata > (1u << 24))
+        throw std::invalid_argument("faurePrefixEstimates: the last checkpoint " + std::to_string(last) + " needs " +
+                                    std::to_string(digits) + " digits in base " + std::to_string(q) + "; at most " +
+                                    std::to_string(glsl::OAS_FAURE_MAX_DIGITS) + " with q^K <= 2^24");
     const glsl::OasFaure fa = glsl::oas_faure_make(glsl::oas_pattern_field(glsl::toGlsl(bosePattern(q, dims))), digits);
     const std::size_t nf = fs.size();
     std::vector<std::vector<double>> out(checkpoints.size(), std::vector<double>(std::size_t(trials) * nf));

@@ -263,4 +263,7 @@ TEST(ProgressiveStudy, EveryCheckpointIsStratifiedInEachDimension)
                     << "q " << q << ", N " << checkpoints[c] << ", trial " << t;
     }
     EXPECT_THROW(faurePrefixEstimates(4, {{Combo::Additive1, Kernel::BinaryStep, 5}}, 5, {16}, 1, 0, 1), std::invalid_argument);
+    EXPECT_THROW(faurePrefixEstimates(2, {{Combo::Additive1, Kernel::BinaryStep, 2}}, 2, {1u << 13}, 1, 0, 1),
+                 std::invalid_argument);  // 13 digits: more than OAS_FAURE_MAX_DIGITS
+    EXPECT_THROW(faurePrefixEstimates(4, {{Combo::Additive1, Kernel::BinaryStep, 4}}, 4, {16, 16}, 1, 0, 1), std::invalid_argument);
 }
