@@ -14,7 +14,6 @@
 #include "stats.hpp"
 
 namespace oas::study::detail {
-
 namespace {
 
 /// A sampler's error-versus-time curve, times ascending: times need not rise with the count (noise
@@ -24,7 +23,6 @@ void errorTimeCurve(const SceneCurve& c, std::vector<double>& ts, std::vector<Es
 {
     for (size_t i : errorTimeCurvePoints(c)) ts.push_back(c.seconds[i]), es.push_back(c.relMseE[i]);
 }
-
 
 // Where a scene has no cost run, its time tables say so instead of using pooled times.
 std::string noCostRun(const SceneRecord& info)
