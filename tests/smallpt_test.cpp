@@ -1,11 +1,14 @@
 // examples/smallpt, the embedder's path tracer: its prefetch kernel (oas_prefetch) gives the C++
 // twin's values bit for bit, drawing inline and drawing prefetched values render the same image
-// word for word, and oas's image has the own hash's mean within the hash's own noise.
+// word for word (oas throughout and for a path's first vertices only), oas for no vertex is the
+// own hash's image word for word, and oas's image has the own hash's mean within the hash's own
+// noise.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstring>
 #include <numeric>
+#include <stdexcept>
 #include <vector>
 
 #include "gpu_test_support.hpp"
@@ -57,19 +60,45 @@ TEST_F(SmallptGpu, PrefetchedValuesAreOasSampleBitForBit)
     }
 }
 
+void expectSameWords(const std::vector<float>& a, const std::vector<float>& b, const char* what)
+{
+    ASSERT_EQ(a.size(), b.size()) << what;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_TRUE(std::isfinite(a[i])) << what << ", value " << i;
+        ASSERT_EQ(bits(a[i]), bits(b[i])) << what << ", value " << i << ": " << a[i] << " against " << b[i];
+    }
+}
+
 TEST_F(SmallptGpu, InlineAndPrefetchedDrawsRenderTheSameImage)
 {
     // The same numbers in the same order make the same sums: word for word, with a dispatch size
-    // that does not divide the samples (the last dispatch is short).
+    // that does not divide the samples (the last dispatch is short); with oas throughout, and with
+    // oas for the camera and the first two bounces only (3 vertices; the own hash beyond).
     const OasPattern pattern = makePattern(OAS_BOSE, 64);
-    smallpt::Renderer inlineDraws(context(), pattern, smallpt::Sampler::OasInline, 12, 10, 24);
-    smallpt::Renderer prefetched(context(), pattern, smallpt::Sampler::OasPrefetch, 12, 10, 24);
-    const std::vector<float> a = inlineDraws.render(7, 64), b = prefetched.render(7, 64);
-    ASSERT_EQ(a.size(), b.size());
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        ASSERT_TRUE(std::isfinite(a[i])) << "value " << i;
-        ASSERT_EQ(bits(a[i]), bits(b[i])) << "value " << i << ": inline " << a[i] << ", prefetched " << b[i];
+    for (std::uint32_t vertices : {smallpt::kPathVertices, 3u}) {
+        smallpt::Renderer inlineDraws(context(), pattern, smallpt::Sampler::OasInline, 12, 10, 24, vertices);
+        smallpt::Renderer prefetched(context(), pattern, smallpt::Sampler::OasPrefetch, 12, 10, 24, vertices);
+        EXPECT_EQ(prefetched.dimensions(), smallpt::pathDimensions(pattern, vertices));
+        expectSameWords(inlineDraws.render(7, 64), prefetched.render(7, 64),
+                        vertices == 3u ? "3 oas vertices" : "oas throughout");
     }
+}
+
+TEST_F(SmallptGpu, OasForNoVertexIsTheOwnHashsImage)
+{
+    // With oas for no vertex every number is the own hash's (the same function of pixel seed,
+    // sample and dimension), so the image is the own-hash renderer's, word for word; and oas for
+    // the camera alone is not (a control: the switch reaches the numbers).
+    const OasPattern pattern = makePattern(OAS_BOSE, 49);
+    const std::vector<float> own = smallpt::Renderer(context(), pattern, smallpt::Sampler::OwnHash, 9, 7, 16).render(5, 49);
+    for (auto sampler : {smallpt::Sampler::OasInline, smallpt::Sampler::OasPrefetch})
+        expectSameWords(smallpt::Renderer(context(), pattern, sampler, 9, 7, 16, 0).render(5, 49), own,
+                        smallpt::samplerName(sampler));
+    const std::vector<float> cameraOnly =
+        smallpt::Renderer(context(), pattern, smallpt::Sampler::OasInline, 9, 7, 16, 1).render(5, 49);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < own.size(); ++i) differ += bits(own[i]) != bits(cameraOnly[i]);
+    EXPECT_GT(differ, own.size() / 2) << "oas for the camera should move most pixels' sums";
 }
 
 TEST_F(SmallptGpu, OasImageHasTheOwnHashsMeanWithinItsNoise)
@@ -80,17 +109,23 @@ TEST_F(SmallptGpu, OasImageHasTheOwnHashsMeanWithinItsNoise)
     const OasPattern pattern = makePattern(OAS_BOSE, 64);
     const std::uint32_t side = 24;
     smallpt::Renderer hash(context(), pattern, smallpt::Sampler::OwnHash, side, side);
-    smallpt::Renderer oasDraws(context(), pattern, smallpt::Sampler::OasPrefetch, side, side);
-    const std::vector<float> h1 = hash.render(1, 64), h2 = hash.render(2, 64), o = oasDraws.render(3, 64);
+    const std::vector<float> h1 = hash.render(1, 64), h2 = hash.render(2, 64);
     const double n = double(h1.size());
-    const double mean1 = std::accumulate(h1.begin(), h1.end(), 0.0) / n, meanOas = std::accumulate(o.begin(), o.end(), 0.0) / n;
+    const double mean1 = std::accumulate(h1.begin(), h1.end(), 0.0) / n;
     double diffSquares = 0;
     for (std::size_t i = 0; i < h1.size(); ++i) diffSquares += (double(h1[i]) - h2[i]) * (double(h1[i]) - h2[i]);
     const double frameMeanError = std::sqrt(diffSquares / n / 2.0 / n);
     EXPECT_GT(mean1, 0.05) << "the room should be lit";
-    EXPECT_LT(std::abs(meanOas - mean1), 5.0 * std::sqrt(2.0) * frameMeanError)
-        << "oas mean " << meanOas << ", hash mean " << mean1 << ", hash frame standard error " << frameMeanError;
-    for (float v : o) ASSERT_TRUE(std::isfinite(v));
+    // oas throughout, and for the camera and the first bounce only (the own hash beyond).
+    for (std::uint32_t vertices : {smallpt::kPathVertices, 2u}) {
+        const std::vector<float> o =
+            smallpt::Renderer(context(), pattern, smallpt::Sampler::OasPrefetch, side, side, 8, vertices).render(3, 64);
+        const double meanOas = std::accumulate(o.begin(), o.end(), 0.0) / n;
+        EXPECT_LT(std::abs(meanOas - mean1), 5.0 * std::sqrt(2.0) * frameMeanError)
+            << "oas for " << vertices << " vertices: mean " << meanOas << ", hash mean " << mean1
+            << ", hash frame standard error " << frameMeanError;
+        for (float v : o) ASSERT_TRUE(std::isfinite(v));
+    }
 }
 
 TEST(Smallpt, PathDimensionsFollowThePairLayout)
@@ -101,6 +136,14 @@ TEST(Smallpt, PathDimensionsFollowThePairLayout)
     EXPECT_EQ(smallpt::pathDimensions(makePattern(OAS_BOSE, 49)), 50u);
     EXPECT_GT(smallpt::pathDimensions(makePattern(OAS_BOSE_BUSH, 32)), 50u);
     EXPECT_EQ(smallpt::pathDimensions(makePattern(OAS_RANDOM, 16)), 50u);
+    // The first vertices only: none; the camera's pair; the camera and one bounce (2 + 6); and
+    // every vertex, the default.
+    const OasPattern bose49 = makePattern(OAS_BOSE, 49);
+    EXPECT_EQ(smallpt::pathDimensions(bose49, 0), 0u);
+    EXPECT_EQ(smallpt::pathDimensions(bose49, 1), 2u);
+    EXPECT_EQ(smallpt::pathDimensions(bose49, 2), 8u);
+    EXPECT_EQ(smallpt::pathDimensions(bose49, smallpt::kPathVertices), 50u);
+    EXPECT_THROW(smallpt::pathDimensions(bose49, smallpt::kPathVertices + 1), std::invalid_argument);
 }
 
 }  // namespace

@@ -5,9 +5,12 @@
 // per pixel traces `samples` consecutive samples and adds them to the pixel's sum.
 // Where its random numbers come from is a specialization constant (samplerMode):
 //   0  its own integer hash of (pixel, sample, dimension): what it had before oas;
-//   1  oas_sample where each number is used (the include's one-shot call);
+//   1  oas_draw for each group of numbers (the camera, a path vertex) where it is used;
 //   2  values a prefetch kernel (prefetch.comp, oas_prefetch) wrote before this dispatch.
 // Modes 1 and 2 give the same numbers bit for bit, so the same image (tests/smallpt_test.cpp).
+// In modes 1 and 2 only the path's first `dims` dimensions (the camera and the first vertices:
+// the host picks a vertex boundary) come from oas, the rest from the own hash: the recipe for
+// renderers whose paths are too cheap to pay for stratifying every bounce.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 
@@ -35,7 +38,7 @@ layout(push_constant) uniform Params {
     uint frameSeed;
     uint firstSample;  // this dispatch traces samples [firstSample, firstSample + samples)
     uint samples;
-    uint dims;         // dimensions one path may use: the prefetched values' stride
+    uint dims;         // dimensions drawn from oas (the rest from the own hash): the prefetched values' stride
 } params;
 
 layout(std430, binding = 0) buffer Sums { vec4 sums[]; };  // per pixel: radiance summed over samples
@@ -61,10 +64,14 @@ uint ownHash(uint h)
     return h;
 }
 
-float rand(uint dim)
+float ownRand(uint dim)
 {
-    if (samplerMode == 0u) return float(ownHash(gPixelSeed ^ ownHash(gSample * 0x9e3779b9u + ownHash(dim))) >> 8u) * (1.0 / 16777216.0);
-    if (samplerMode == 1u) return oas_sample(params.pattern, gPixelSeed, gSample, dim);
+    return float(ownHash(gPixelSeed ^ ownHash(gSample * 0x9e3779b9u + ownHash(dim))) >> 8u) * (1.0 / 16777216.0);
+}
+
+/// Mode 2: dimension `dim` of the current sample as the prefetch kernel wrote it.
+float prefetchedValue(uint dim)
+{
     uint at = (gPixel * params.samples + (gSample - params.firstSample)) * params.dims + dim;
     return uintBitsToFloat(texelFetch(prefetched, int(at >> 2u))[at & 3u]);
 }
@@ -74,13 +81,25 @@ float rand(uint dim)
 /// compilers inline the sampler at every call site, and lavapipe runs every side of a branch
 /// that any lane takes, so a draw inside the material branches would be paid several times.
 /// oas_draw also makes an OA block's row once for the block's dimensions in the group.
-OasDraw draw(uint firstDim, uint n)
+/// ownDraw: the own hash's numbers; oasDraw: oas's (modes 1 and 2), for dimensions below params.dims.
+OasDraw ownDraw(uint firstDim, uint n)
+{
+    OasDraw d;
+    [[unroll]] for (uint k = 0u; k < OAS_DRAW_MAX; ++k) d.u[k] = k < n ? ownRand(firstDim + k) : 0.0;
+    return d;
+}
+
+OasDraw oasDraw(uint firstDim, uint n)
 {
     if (samplerMode == 1u) return oas_draw(params.pattern, gPixelSeed, gSample, firstDim, n);
     OasDraw d;
-    [[unroll]] for (uint k = 0u; k < OAS_DRAW_MAX; ++k) d.u[k] = k < n ? rand(firstDim + k) : 0.0;
+    [[unroll]] for (uint k = 0u; k < OAS_DRAW_MAX; ++k) d.u[k] = k < n ? prefetchedValue(firstDim + k) : 0.0;
     return d;
 }
+
+/// Whether dimensions [firstDim, firstDim + n) come from oas. The host sets params.dims at a
+/// vertex boundary, and every lane is at the same vertex, so the answer is the same in all lanes.
+bool fromOas(uint firstDim, uint n) { return samplerMode != 0u && firstDim + n <= params.dims; }
 
 // The dimension layout: 2D samples go where the pattern stratifies pairs (oas_pair_dimension:
 // CMJ partners within one OA block), 1D samples on the next free dimension. The host runs the
@@ -167,62 +186,111 @@ mat3 basis(vec3 n)
 
 // ---------------------------------------------------------------------------- the integrator
 
+/// A path between two vertices: the ray leaving the last one, what it has gathered, whether it ended.
+struct Path {
+    vec3 o, d;
+    vec3 sum, throughput;
+    bool countEmission;  // camera rays and specular bounces see the light; diffuse ones use NEE
+    bool ended;
+};
+
+/// Where a scattering vertex's numbers lie: its first dimension, then offsets from it.
+struct VertexDims {
+    uint first, light, bsdf, lobe, roulette, count;
+};
+
+/// The next vertex's dimensions (at most OAS_DRAW_MAX from the first: the host checks the layout,
+/// smallpt.cpp's pathDimensions); advances the cursor past them.
+VertexDims nextVertexDims()
+{
+    VertexDims v;
+    v.first = gCursor;
+    v.light = next2D() - v.first;
+    v.bsdf = next2D() - v.first;
+    v.lobe = next1D() - v.first;
+    v.roulette = next1D() - v.first;
+    v.count = gCursor - v.first;
+    return v;
+}
+
+/// One scattering vertex: trace the ray, add emission and next-event estimation, sample the
+/// BSDF, roulette; `u` holds the vertex's numbers at the offsets in `v`.
+Path scatter(Path path, uint depth, OasDraw u, VertexDims v)
+{
+    Hit h = intersect(path.o, path.d);
+    if (h.t >= 1e30) {
+        path.ended = true;
+        return path;
+    }
+    if (h.material == LIGHT) {
+        if (path.countEmission) path.sum += path.throughput * LIGHT_RADIANCE;
+        path.ended = true;
+        return path;
+    }
+    vec3 d = path.d, p = path.o + h.t * d;
+    if (h.material == DIFFUSE) {
+        // Next-event estimation: a direction in the light's cone, uniform in solid angle.
+        vec3 toLight = LIGHT_CENTER - p;
+        float dist2 = dot(toLight, toLight);
+        float cosMax = sqrt(max(0.0, 1.0 - LIGHT_RADIUS * LIGHT_RADIUS / dist2));
+        float cosTheta = 1.0 - u.u[v.light] * (1.0 - cosMax);
+        float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta)), phi = 2.0 * PI * u.u[v.light + 1u];
+        vec3 l = basis(normalize(toLight)) * vec3(cos(phi) * sinTheta, sin(phi) * sinTheta, cosTheta);
+        float cosSurface = dot(l, h.normal);
+        if (cosSurface > 0.0 && intersect(p, l).material == LIGHT)
+            path.sum += path.throughput * h.albedo / PI * LIGHT_RADIANCE * cosSurface * 2.0 * PI * (1.0 - cosMax);
+        // Cosine-weighted bounce.
+        float r = sqrt(u.u[v.bsdf]), a = 2.0 * PI * u.u[v.bsdf + 1u];
+        d = basis(h.normal) * vec3(r * cos(a), r * sin(a), sqrt(max(0.0, 1.0 - r * r)));
+        path.countEmission = false;
+    } else if (h.material == MIRROR) {
+        d = reflect(d, h.normal);
+        path.countEmission = true;
+    } else {  // glass, index 1.5: reflect or refract by Fresnel (Schlick)
+        bool entering = dot(d, h.normal) < 0.0;
+        vec3 n = entering ? h.normal : -h.normal;
+        float eta = entering ? 1.0 / 1.5 : 1.5;
+        vec3 refracted = refract(d, n, eta);
+        float cosI = -dot(d, n), f0 = 0.04;
+        float fresnel = dot(refracted, refracted) == 0.0 ? 1.0 : f0 + (1.0 - f0) * pow(1.0 - cosI, 5.0);
+        d = u.u[v.lobe] < fresnel ? reflect(d, n) : refracted;
+        path.countEmission = true;
+    }
+    path.throughput *= h.albedo;
+    path.o = p;
+    path.d = d;
+    if (depth >= 2u) {  // Russian roulette
+        float keep = min(0.95, max(path.throughput.r, max(path.throughput.g, path.throughput.b)));
+        if (u.u[v.roulette] >= keep) {
+            path.ended = true;
+            return path;
+        }
+        path.throughput /= keep;
+    }
+    return path;
+}
+
 vec3 radiance(vec3 o, vec3 d)
 {
-    vec3 sum = vec3(0.0), throughput = vec3(1.0);
-    bool countEmission = true;  // camera rays and specular bounces see the light; diffuse ones use NEE
-    for (uint depth = 0u; depth < MAX_DEPTH; ++depth) {
-        Hit h = intersect(o, d);
-        if (h.t >= 1e30) break;
-        if (h.material == LIGHT) {
-            if (countEmission) sum += throughput * LIGHT_RADIANCE;
+    Path path = Path(o, d, vec3(0.0), vec3(1.0), true, false);
+    uint depth = 0u;
+    // Two loops over the same vertex: the first while the numbers come from oas, the second with
+    // the own hash. One loop choosing per vertex would pay for both draws at every vertex, since
+    // lavapipe runs both sides of a branch (measured: oas for 2 of 9 vertices cost as much as
+    // for all 9, 3.5x the own hash's frame).
+    for (; depth < MAX_DEPTH && !path.ended; ++depth) {
+        VertexDims v = nextVertexDims();
+        if (!fromOas(v.first, v.count)) {
+            gCursor = v.first;
             break;
         }
-        // This vertex's numbers, all drawn here (at most OAS_DRAW_MAX dims from the first: the
-        // host checks the layout, smallpt.cpp's pathDimensions).
-        uint first = gCursor;
-        uint lightDim = next2D() - first, bsdfDim = next2D() - first, lobeDim = next1D() - first, rouletteDim = next1D() - first;
-        OasDraw u = draw(first, gCursor - first);
-        vec3 p = o + h.t * d;
-        if (h.material == DIFFUSE) {
-            // Next-event estimation: a direction in the light's cone, uniform in solid angle.
-            vec3 toLight = LIGHT_CENTER - p;
-            float dist2 = dot(toLight, toLight);
-            float cosMax = sqrt(max(0.0, 1.0 - LIGHT_RADIUS * LIGHT_RADIUS / dist2));
-            float cosTheta = 1.0 - u.u[lightDim] * (1.0 - cosMax);
-            float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta)), phi = 2.0 * PI * u.u[lightDim + 1u];
-            vec3 l = basis(normalize(toLight)) * vec3(cos(phi) * sinTheta, sin(phi) * sinTheta, cosTheta);
-            float cosSurface = dot(l, h.normal);
-            if (cosSurface > 0.0 && intersect(p, l).material == LIGHT)
-                sum += throughput * h.albedo / PI * LIGHT_RADIANCE * cosSurface * 2.0 * PI * (1.0 - cosMax);
-            // Cosine-weighted bounce.
-            float r = sqrt(u.u[bsdfDim]), a = 2.0 * PI * u.u[bsdfDim + 1u];
-            d = basis(h.normal) * vec3(r * cos(a), r * sin(a), sqrt(max(0.0, 1.0 - r * r)));
-            throughput *= h.albedo;
-            countEmission = false;
-        } else if (h.material == MIRROR) {
-            d = reflect(d, h.normal);
-            throughput *= h.albedo;
-            countEmission = true;
-        } else {  // glass, index 1.5: reflect or refract by Fresnel (Schlick)
-            bool entering = dot(d, h.normal) < 0.0;
-            vec3 n = entering ? h.normal : -h.normal;
-            float eta = entering ? 1.0 / 1.5 : 1.5;
-            vec3 refracted = refract(d, n, eta);
-            float cosI = -dot(d, n), f0 = 0.04;
-            float fresnel = dot(refracted, refracted) == 0.0 ? 1.0 : f0 + (1.0 - f0) * pow(1.0 - cosI, 5.0);
-            d = u.u[lobeDim] < fresnel ? reflect(d, n) : refracted;
-            throughput *= h.albedo;
-            countEmission = true;
-        }
-        o = p;
-        if (depth >= 2u) {  // Russian roulette
-            float keep = min(0.95, max(throughput.r, max(throughput.g, throughput.b)));
-            if (u.u[rouletteDim] >= keep) break;
-            throughput /= keep;
-        }
+        path = scatter(path, depth, oasDraw(v.first, v.count), v);
     }
-    return sum;
+    for (; depth < MAX_DEPTH && !path.ended; ++depth) {
+        VertexDims v = nextVertexDims();
+        path = scatter(path, depth, ownDraw(v.first, v.count), v);
+    }
+    return path.sum;
 }
 
 void main()
@@ -236,7 +304,7 @@ void main()
         gSample = params.firstSample + s;
         gCursor = 0u;
         uint pixelDim = next2D();  // 0
-        OasDraw pixel = draw(pixelDim, 2u);
+        OasDraw pixel = fromOas(pixelDim, 2u) ? oasDraw(pixelDim, 2u) : ownDraw(pixelDim, 2u);
         vec2 film = (vec2(xy) + vec2(pixel.u[0], pixel.u[1])) / vec2(params.width, params.height);
         vec3 eye = vec3(0.5, 0.5, -1.3);
         vec3 target = vec3(film.x, 1.0 - film.y, 0.0) * 0.98 + vec3(0.01, 0.01, 0.0);  // the room's open front

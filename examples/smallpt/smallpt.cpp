@@ -18,7 +18,6 @@ struct Renderer::Params {
 };
 
 namespace {
-constexpr std::uint32_t kMaxDepth = 8;  // smallpt.comp's MAX_DEPTH
 constexpr std::uint32_t kDrawMax = 8;   // the GLSL's OAS_DRAW_MAX: dimensions one oas_draw returns
 constexpr std::uint32_t kGroupSide = 8, kPrefetchGroup = 64;
 
@@ -42,10 +41,15 @@ const char* samplerName(Sampler s)
     return "?";
 }
 
-std::uint32_t pathDimensions(const OasPattern& pattern)
+std::uint32_t pathDimensions(const OasPattern& pattern, std::uint32_t vertices)
 {
-    std::uint32_t cursor = oas_pair_dimension(&pattern, 0) + 2;  // the pixel sample
-    for (std::uint32_t depth = 0; depth < kMaxDepth; ++depth) {
+    if (vertices > kPathVertices)
+        throw std::invalid_argument("smallpt: a path has " + std::to_string(kPathVertices) + " vertices (the camera and " +
+                                    std::to_string(kPathVertices - 1) + " bounces, smallpt.comp's MAX_DEPTH), not " +
+                                    std::to_string(vertices));
+    if (vertices == 0) return 0;
+    std::uint32_t cursor = oas_pair_dimension(&pattern, 0) + 2;  // the camera's pixel sample
+    for (std::uint32_t depth = 0; depth + 1 < vertices; ++depth) {
         const std::uint32_t first = cursor;
         cursor = oas_pair_dimension(&pattern, cursor) + 2;  // light
         cursor = oas_pair_dimension(&pattern, cursor) + 2;  // bounce
@@ -59,10 +63,10 @@ std::uint32_t pathDimensions(const OasPattern& pattern)
 }
 
 Renderer::Renderer(oas::vk::Context& ctx, const OasPattern& pattern, Sampler sampler, std::uint32_t width, std::uint32_t height,
-                   std::uint32_t samplesPerDispatch)
+                   std::uint32_t samplesPerDispatch, std::uint32_t oasVertices)
     : ctx_(ctx), pattern_(pattern), sampler_(sampler), width_(width), height_(height), samplesPerDispatch_(samplesPerDispatch),
-      dims_(pathDimensions(pattern)), sums_(ctx, VkDeviceSize(width) * height * 16),
-      values_(ctx, sampler == Sampler::OasPrefetch ? VkDeviceSize(width) * height * samplesPerDispatch * pathDimensions(pattern) * 4 + 16 : 16)
+      dims_(pathDimensions(pattern, oasVertices)), sums_(ctx, VkDeviceSize(width) * height * 16),
+      values_(ctx, sampler == Sampler::OasPrefetch ? VkDeviceSize(width) * height * samplesPerDispatch * dims_ * 4 + 16 : 16)
 {
     if (width == 0 || height == 0 || samplesPerDispatch == 0)
         throw std::invalid_argument("smallpt: width, height and samples per dispatch must be at least 1");
@@ -93,7 +97,7 @@ std::vector<float> Renderer::render(std::uint32_t frameSeed, std::uint32_t spp)
     oas::vk::Buffer* bindings[] = {&sums_, &values_};
     for (std::uint32_t first = 0; first < spp; first += samplesPerDispatch_) {
         const Params params{pattern_, width_, height_, frameSeed, first, std::min(samplesPerDispatch_, spp - first), dims_};
-        if (sampler_ == Sampler::OasPrefetch) prefetchDispatch(params);
+        if (sampler_ == Sampler::OasPrefetch && dims_ > 0) prefetchDispatch(params);
         ctx_.dispatch(*tracer_, bindings, &params, sizeof params, (width_ + kGroupSide - 1) / kGroupSide,
                       (height_ + kGroupSide - 1) / kGroupSide);
     }

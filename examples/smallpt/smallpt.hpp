@@ -19,23 +19,32 @@ enum class Sampler : std::uint32_t {
 };
 const char* samplerName(Sampler s);
 
-/// The number of dimensions one path may use with `pattern`: smallpt.comp's layout (a 2D pixel
-/// sample, then per vertex a 2D light sample, a 2D bounce, a lobe choice and a roulette number,
-/// every 2D sample on oas_pair_dimension), replayed through the C API for the deepest path.
-std::uint32_t pathDimensions(const OasPattern& pattern);
+/// Path vertices, the camera's included: the camera and up to 8 scattering vertices.
+constexpr std::uint32_t kPathVertices = 9;
+
+/// The number of dimensions the first `vertices` vertices of a path use with `pattern` (all of a
+/// path's by default): smallpt.comp's layout (the camera's 2D pixel sample, then per scattering
+/// vertex a 2D light sample, a 2D bounce, a lobe choice and a roulette number, every 2D sample on
+/// oas_pair_dimension), replayed through the C API. Throws std::invalid_argument for vertices
+/// past kPathVertices.
+std::uint32_t pathDimensions(const OasPattern& pattern, std::uint32_t vertices = kPathVertices);
 
 /// One renderer: the pipelines for one pattern kind (specialized with oas_specialization) and
-/// one sampler, and the buffers for one image size. Throws std::invalid_argument for a size or a
-/// dispatch too large for the device's texel buffers, naming the limit.
+/// one sampler, and the buffers for one image size. With an oas sampler, the numbers of a path's
+/// first `oasVertices` vertices (the camera is vertex 0) come from oas and the rest from the own
+/// hash: 0 is the own hash throughout, kPathVertices oas throughout. Throws std::invalid_argument
+/// for a size or a dispatch too large for the device's texel buffers, naming the limit, and for
+/// oasVertices past kPathVertices.
 class Renderer {
 public:
     Renderer(oas::vk::Context& ctx, const OasPattern& pattern, Sampler sampler, std::uint32_t width, std::uint32_t height,
-             std::uint32_t samplesPerDispatch = 8);
+             std::uint32_t samplesPerDispatch = 8, std::uint32_t oasVertices = kPathVertices);
     /// Samples [0, spp) of every pixel with `frameSeed`; the mean radiance, RGB per pixel, rows top down.
     std::vector<float> render(std::uint32_t frameSeed, std::uint32_t spp);
     /// The prefetch kernel's values for samples [firstSample, firstSample + samplesPerDispatch):
     /// value (pixel, k, dim) at (pixel * samplesPerDispatch + k) * dimensions() + dim.
     std::vector<float> prefetch(std::uint32_t frameSeed, std::uint32_t firstSample);
+    /// The dimensions drawn from oas (the first oasVertices vertices'), and the prefetch's stride.
     std::uint32_t dimensions() const { return dims_; }
 
 private:
