@@ -36,14 +36,23 @@ std::uint32_t bits(float v)
 
 TEST_F(SmallptGpu, PrefetchedValuesAreOasSampleBitForBit)
 {
-    // A prime and a binary field, an odd block width (Bose-Bush, Addelman-Kempthorne: 2q + 1
-    // dims), a baseline; 5 x 3 pixels (not whole work groups); 11 samples a dispatch starting
-    // 3 before the end of a pass, so that every run crosses into the next pass.
-    const std::pair<std::uint32_t, std::uint32_t> patterns[] = {
-        {OAS_BOSE, 49}, {OAS_BOSE, 64}, {OAS_BOSE_BUSH, 32}, {OAS_ADDELMAN_KEMPTHORNE, 18}, {OAS_RANDOM, 16}};
-    for (auto [construction, spp] : patterns) {
+    // A prime and a binary field, odd block widths (Bose 64: q + 1 = 9, cut into groups of 5 and
+    // 4; Bose-Bush, Addelman-Kempthorne: 2q + 1), a baseline, and the first vertices only (8
+    // dims, less than Bose 64's block); 5 x 3 pixels (not whole work groups); 11 samples a
+    // dispatch starting 3 before the end of a pass, so that every run crosses into the next pass.
+    struct Case {
+        std::uint32_t construction, spp, vertices;
+    };
+    const Case cases[] = {{OAS_BOSE, 49, smallpt::kPathVertices},
+                          {OAS_BOSE, 64, smallpt::kPathVertices},
+                          {OAS_BOSE, 64, 2},
+                          {OAS_BOSE_BUSH, 32, smallpt::kPathVertices},
+                          {OAS_ADDELMAN_KEMPTHORNE, 18, smallpt::kPathVertices},
+                          {OAS_RANDOM, 16, smallpt::kPathVertices},
+                          {OAS_RANDOM, 16, 3}};
+    for (auto [construction, spp, vertices] : cases) {
         const OasPattern pattern = makePattern(construction, spp);
-        smallpt::Renderer renderer(context(), pattern, smallpt::Sampler::OasPrefetch, 5, 3, 11);
+        smallpt::Renderer renderer(context(), pattern, smallpt::Sampler::OasPrefetch, 5, 3, 11, vertices);
         const std::uint32_t first = pattern.N - 3, dims = renderer.dimensions(), frameSeed = 0x5eedu;
         const std::vector<float> values = renderer.prefetch(frameSeed, first);
         std::size_t compared = 0;
@@ -53,8 +62,9 @@ TEST_F(SmallptGpu, PrefetchedValuesAreOasSampleBitForBit)
                     for (std::uint32_t dim = 0; dim < dims; ++dim, ++compared) {
                         const float expected = oas::sample(oas::Pattern(pattern), oas::pixelSeed(x, y, frameSeed), first + k, dim);
                         const float got = values[((y * 5 + x) * 11 + k) * dims + dim];
-                        ASSERT_EQ(bits(got), bits(expected)) << oas_construction_name(construction) << " " << spp << ", pixel (" << x
-                                                             << ", " << y << "), sample " << first + k << ", dim " << dim;
+                        ASSERT_EQ(bits(got), bits(expected)) << oas_construction_name(construction) << " " << spp << ", " << vertices
+                                                             << " vertices, pixel (" << x << ", " << y << "), sample " << first + k
+                                                             << ", dim " << dim;
                     }
         EXPECT_EQ(compared, std::size_t(15) * 11 * dims);
     }
@@ -144,6 +154,22 @@ TEST(Smallpt, PathDimensionsFollowThePairLayout)
     EXPECT_EQ(smallpt::pathDimensions(bose49, 2), 8u);
     EXPECT_EQ(smallpt::pathDimensions(bose49, smallpt::kPathVertices), 50u);
     EXPECT_THROW(smallpt::pathDimensions(bose49, smallpt::kPathVertices + 1), std::invalid_argument);
+}
+
+TEST(Smallpt, PrefetchGroupsCutBlocksEvenly)
+{
+    // Bose 49: blocks of 8 columns, one group each; 50 dims = 6 blocks and 2 columns of a 7th.
+    const OasPattern bose49 = makePattern(OAS_BOSE, 49), bose64 = makePattern(OAS_BOSE, 64);
+    EXPECT_EQ(smallpt::prefetchWidth(bose49, 50), 8u);
+    EXPECT_EQ(smallpt::prefetchGroups(bose49, 50), 7u);
+    // Bose 64: blocks of 9 columns as groups of 5 and 4, not 8 and 1; 55 dims = 6 blocks and 1.
+    EXPECT_EQ(smallpt::prefetchWidth(bose64, 55), 5u);
+    EXPECT_EQ(smallpt::prefetchGroups(bose64, 55), 13u);
+    // 8 dims, fewer than a block's 9: one group of 8.
+    EXPECT_EQ(smallpt::prefetchWidth(bose64, 8), 8u);
+    EXPECT_EQ(smallpt::prefetchGroups(bose64, 8), 1u);
+    // A baseline has no blocks: runs of 8.
+    EXPECT_EQ(smallpt::prefetchGroups(makePattern(OAS_RANDOM, 16), 50), 7u);
 }
 
 }  // namespace

@@ -22,12 +22,13 @@ constexpr std::uint32_t kDrawMax = 8;   // the GLSL's OAS_DRAW_MAX: dimensions o
 constexpr std::uint32_t kGroupSide = 8, kPrefetchGroup = 64;
 
 /// The specialization constants 0-4 of both shaders (the include's five OAS_STATIC_* values),
-/// filled by the C API's oas_specialization, and the sampler as constant 5.
-oas::vk::ComputePipeline::SpecConstants specialization(const OasPattern& pattern, std::uint32_t samplerMode)
+/// filled by the C API's oas_specialization, and constant 5: the tracer's sampler mode, the
+/// prefetch kernel's group width.
+oas::vk::ComputePipeline::SpecConstants specialization(const OasPattern& pattern, std::uint32_t constant5)
 {
     OasSpecialization s;
     oas_specialization(&pattern, &s);
-    return {{0, s.construction}, {1, s.offset}, {2, s.fieldKind}, {3, s.fieldDegree}, {4, s.smallN}, {5, samplerMode}};
+    return {{0, s.construction}, {1, s.offset}, {2, s.fieldKind}, {3, s.fieldDegree}, {4, s.smallN}, {5, constant5}};
 }
 }  // namespace
 
@@ -78,13 +79,31 @@ Renderer::Renderer(oas::vk::Context& ctx, const OasPattern& pattern, Sampler sam
                                     std::to_string(limit) + "): fewer samples per dispatch or a smaller image");
 }
 
+std::uint32_t prefetchWidth(const OasPattern& pattern, std::uint32_t dims)
+{
+    constexpr std::uint32_t kMost = 8;
+    const std::uint32_t span = pattern.construction >= OAS_RANDOM ? kMost : pattern.blockDims;
+    const std::uint32_t widest = std::max(1u, std::min(span, dims));
+    const std::uint32_t parts = (widest + kMost - 1) / kMost;
+    return (widest + parts - 1) / parts;
+}
+
+std::uint32_t prefetchGroups(const OasPattern& pattern, std::uint32_t dims)
+{
+    const std::uint32_t width = prefetchWidth(pattern, dims);
+    const std::uint32_t span = pattern.construction >= OAS_RANDOM ? width : pattern.blockDims;
+    const std::uint32_t perBlock = (span + width - 1) / width, fullBlocks = dims / span, rest = dims - fullBlocks * span;
+    return fullBlocks * perBlock + (rest + width - 1) / width;
+}
+
 void Renderer::prefetchDispatch(const Params& params)
 {
     if (!prefetcher_)
-        prefetcher_.emplace(ctx_, smallpt_prefetch_spv, sizeof smallpt_prefetch_spv, 1, sizeof(Params), specialization(pattern_, 0),
+        prefetcher_.emplace(ctx_, smallpt_prefetch_spv, sizeof smallpt_prefetch_spv, 1, sizeof(Params),
+                            specialization(pattern_, prefetchWidth(pattern_, dims_)),
                             std::vector{oas::vk::BindingKind::UintStorageTexelBuffer});
     oas::vk::Buffer* bindings[] = {&values_};
-    const std::uint64_t items = std::uint64_t(width_) * height_ * dims_;
+    const std::uint64_t items = std::uint64_t(width_) * height_ * prefetchGroups(pattern_, dims_);
     ctx_.dispatch(*prefetcher_, bindings, &params, sizeof params, std::uint32_t((items + kPrefetchGroup - 1) / kPrefetchGroup));
 }
 

@@ -29,6 +29,13 @@ constexpr std::uint32_t kPathVertices = 9;
 /// past kPathVertices.
 std::uint32_t pathDimensions(const OasPattern& pattern, std::uint32_t vertices = kPathVertices);
 
+/// The prefetch kernel's (prefetch.comp) group width for `dims` dimensions of `pattern`: at most 8,
+/// an OA block's columns (or, where dims is less, the dims) cut into equal groups as near as can be.
+std::uint32_t prefetchWidth(const OasPattern& pattern, std::uint32_t dims);
+/// Invocations per pixel of the prefetch kernel: one per group of prefetchWidth consecutive
+/// dimensions (fewer in a block's last group) of one OA block, or of the run for a baseline.
+std::uint32_t prefetchGroups(const OasPattern& pattern, std::uint32_t dims);
+
 /// One renderer: the pipelines for one pattern kind (specialized with oas_specialization) and
 /// one sampler, and the buffers for one image size. With an oas sampler, the numbers of a path's
 /// first `oasVertices` vertices (the camera is vertex 0) come from oas and the rest from the own
