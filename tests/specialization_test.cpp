@@ -19,12 +19,13 @@
 #include "oas/oas_pattern.h"
 #include "oas/pattern.hpp"
 #include "specialized_consumer_spv.h"
+#include "specialized_consumer_two_blocks_spv.h"
 
 namespace {
 
 struct Push {
     oas::Pattern pattern;
-    std::uint32_t spp, dims, seed;
+    std::uint32_t spp, dims, seed, firstDim;
 };
 
 constexpr std::uint32_t kDims = 6;
@@ -88,7 +89,7 @@ TEST_F(Specialization, AMismatchedPatternGivesNaNNeverWrongValues)
         for (const auto& [name, pattern] : list) {
             SCOPED_TRACE("shader specialized for " + specName + ", given " + name);
             const bool matches = oas_specialization_matches(&pattern, &spec) != 0;
-            Push push{pattern, std::min(pattern.N, kMaxSamplesChecked), kDims, kPixelSeed};
+            Push push{pattern, std::min(pattern.N, kMaxSamplesChecked), kDims, kPixelSeed, 0};
             std::memset(values.data(), 0, values.size());
             oas::vk::Buffer* buffers[] = {&values, &directions};
             ctx.dispatch(pipe, buffers, &push, sizeof(push), (push.spp + 7) / 8);
@@ -113,6 +114,57 @@ TEST_F(Specialization, AMismatchedPatternGivesNaNNeverWrongValues)
     // specialization (smallN 0) takes the small Bose patterns of its kind too.
     EXPECT_GE(matched, list.size() + 1);
     EXPECT_GT(refused, list.size());
+}
+
+TEST_F(Specialization, ADrawWithinItsPromisedBlocksIsExactAndOnePastThemIsNaN)
+{
+    // OAS_STATIC_DRAW_BLOCKS 2 promises that a draw spans at most two OA blocks. Draws of 6
+    // dimensions starting at every first dimension in [0, 20): they span (first + 5) / B - first / B
+    // + 1 blocks of B columns; within two, every value is oas::sample's bit for bit; past two
+    // (blocks of 3 or 4 columns), every value is NaN. Baselines have no blocks: always exact.
+    oas::vk::Context& ctx = context();
+    const auto& table = oas::sobolDirections();
+    oas::vk::Buffer directions(ctx, table.size() * sizeof(std::uint32_t));
+    std::memcpy(directions.data(), table.data(), table.size() * sizeof(std::uint32_t));
+    oas::vk::Buffer values(ctx, std::size_t(kMaxSamplesChecked) * 2 * kDims * sizeof(float));
+    const std::pair<const char*, oas::Pattern> list[] = {
+        {"bose 49 (8 columns)", make("bose", 49)},           {"bose 64 (9)", make("bose", 64)},
+        {"bose 9 (4)", make("bose", 9)},                     {"bush 27 t=3 (4)", make("bush", 27, "cmj", 3)},
+        {"addelman-kempthorne 18 (7)", make("addelman-kempthorne", 18)}, {"cmjnd 27 d=3 (3)", make("cmjnd", 27, "cmj", 3)},
+        {"random 16", make("random", 16)},                   {"cmj2d 16", make("cmj2d", 16)}};
+    std::size_t exact = 0, refused = 0;
+    for (const auto& [name, pattern] : list) {
+        OasSpecialization spec;
+        oas_specialization(&pattern, &spec);
+        const oas::vk::ComputePipeline::SpecConstants constants = {
+            {0, spec.construction}, {1, spec.offset}, {2, spec.fieldKind}, {3, spec.fieldDegree}, {4, spec.smallN}, {5, spec.indexBits}};
+        oas::vk::ComputePipeline pipe(ctx, specialized_consumer_two_blocks_spv, sizeof(specialized_consumer_two_blocks_spv), 2,
+                                      sizeof(Push), constants);
+        const bool baseline = !oas::isOrthogonalArray(oas_construction_name(pattern.construction));
+        for (std::uint32_t first = 0; first < 20; ++first) {
+            SCOPED_TRACE(std::string(name) + ", first dimension " + std::to_string(first));
+            const std::uint32_t b = pattern.blockDims;
+            const bool within = baseline || (first + kDims - 1) / b - first / b + 1 <= 2;
+            Push push{pattern, std::min(pattern.N, kMaxSamplesChecked), kDims, kPixelSeed, first};
+            std::memset(values.data(), 0, values.size());
+            oas::vk::Buffer* buffers[] = {&values, &directions};
+            ctx.dispatch(pipe, buffers, &push, sizeof(push), (push.spp + 7) / 8);
+            const auto* got = static_cast<const float*>(values.data());
+            std::size_t wrong = 0;
+            for (std::uint32_t i = 0; i < push.spp; ++i)
+                for (std::uint32_t d = 0; d < kDims; ++d) {
+                    const float viaSample = got[(i * 2) * kDims + d], viaDraw = got[(i * 2 + 1) * kDims + d];
+                    const float expected = oas::sample(pattern, kPixelSeed, i, first + d);
+                    wrong += std::memcmp(&viaSample, &expected, sizeof expected) != 0;  // oas_sample is never affected
+                    wrong += within ? std::memcmp(&viaDraw, &expected, sizeof expected) != 0 : !std::isnan(viaDraw);
+                }
+            EXPECT_EQ(wrong, 0u) << (within ? "draw values differing from oas::sample" : "draw values that are not NaN");
+            (within ? exact : refused) += 1;
+        }
+    }
+    // Both verdicts occur: blocks of 3 and 4 columns are spanned three at a time by 6 dimensions.
+    EXPECT_GT(exact, 100u);
+    EXPECT_GT(refused, 10u);
 }
 
 TEST(SpecializationC, FieldKindDegreeAndSizeFollowTheConstruction)

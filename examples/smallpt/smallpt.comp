@@ -27,6 +27,12 @@ layout(constant_id = 5) const uint samplerMode = 0u;
 #define OAS_STATIC_FIELD_DEGREE specFieldDegree
 #define OAS_STATIC_SMALL_N specSmallN
 #define OAS_NO_SOBOL  // this renderer is never given a Sobol pattern
+// The build for layouts whose draws (the camera's, a vertex's) each span at most this many OA
+// blocks (smallpt.cpp's drawBlocks decides; CMakeLists.txt builds both): oas_draw then makes one
+// row per block in reach instead of one wherever a block may start.
+#ifdef SMALLPT_DRAW_BLOCKS
+#define OAS_STATIC_DRAW_BLOCKS SMALLPT_DRAW_BLOCKS
+#endif
 #include "oas/oas.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -8,6 +8,7 @@
 
 #include "smallpt_prefetch_spv.h"
 #include "smallpt_spv.h"
+#include "smallpt_two_blocks_spv.h"
 
 namespace smallpt {
 
@@ -79,6 +80,23 @@ Renderer::Renderer(oas::vk::Context& ctx, const OasPattern& pattern, Sampler sam
                                     std::to_string(limit) + "): fewer samples per dispatch or a smaller image");
 }
 
+std::uint32_t drawBlocks(const OasPattern& pattern)
+{
+    if (pattern.construction >= OAS_RANDOM) return 1;  // baselines have no blocks
+    const std::uint32_t b = pattern.blockDims;
+    auto spanned = [b](std::uint32_t first, std::uint32_t end) { return (end - 1) / b - first / b + 1; };
+    const std::uint32_t pixel = oas_pair_dimension(&pattern, 0);
+    std::uint32_t most = spanned(pixel, pixel + 2), cursor = pixel + 2;
+    for (std::uint32_t vertex = 1; vertex < kPathVertices; ++vertex) {  // the same walk as pathDimensions
+        const std::uint32_t first = cursor;
+        cursor = oas_pair_dimension(&pattern, cursor) + 2;  // light
+        cursor = oas_pair_dimension(&pattern, cursor) + 2;  // bounce
+        cursor += 2;                                        // lobe, roulette
+        most = std::max(most, spanned(first, cursor));
+    }
+    return most;
+}
+
 std::uint32_t prefetchWidth(const OasPattern& pattern, std::uint32_t dims)
 {
     constexpr std::uint32_t kMost = 8;
@@ -109,9 +127,14 @@ void Renderer::prefetchDispatch(const Params& params)
 
 std::vector<float> Renderer::render(std::uint32_t frameSeed, std::uint32_t spp)
 {
-    if (!tracer_)
-        tracer_.emplace(ctx_, smallpt_spv, sizeof smallpt_spv, 2, sizeof(Params), specialization(pattern_, std::uint32_t(sampler_)),
+    if (!tracer_) {
+        // The two-block build where every draw of the layout fits it: fewer rows a draw.
+        const bool twoBlocks = drawBlocks(pattern_) <= 2;
+        const std::uint32_t* code = twoBlocks ? smallpt_two_blocks_spv : smallpt_spv;
+        const std::size_t bytes = twoBlocks ? sizeof smallpt_two_blocks_spv : sizeof smallpt_spv;
+        tracer_.emplace(ctx_, code, bytes, 2, sizeof(Params), specialization(pattern_, std::uint32_t(sampler_)),
                         std::vector{oas::vk::BindingKind::StorageBuffer, oas::vk::BindingKind::Uint4TexelBuffer});
+    }
     std::memset(sums_.data(), 0, sums_.size());
     oas::vk::Buffer* bindings[] = {&sums_, &values_};
     for (std::uint32_t first = 0; first < spp; first += samplesPerDispatch_) {

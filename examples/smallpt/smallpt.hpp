@@ -29,6 +29,11 @@ constexpr std::uint32_t kPathVertices = 9;
 /// past kPathVertices.
 std::uint32_t pathDimensions(const OasPattern& pattern, std::uint32_t vertices = kPathVertices);
 
+/// The most OA blocks one of a path's draws spans (the camera's pixel sample, a vertex's numbers)
+/// in smallpt.comp's layout with `pattern` (1 for a baseline). At most 2, the renderer uses the
+/// tracer built with OAS_STATIC_DRAW_BLOCKS 2.
+std::uint32_t drawBlocks(const OasPattern& pattern);
+
 /// The prefetch kernel's (prefetch.comp) group width for `dims` dimensions of `pattern`: at most 8,
 /// an OA block's columns (or, where dims is less, the dims) cut into equal groups as near as can be.
 std::uint32_t prefetchWidth(const OasPattern& pattern, std::uint32_t dims);

@@ -52,6 +52,8 @@
 //         OAS_DRAW_MAX; u[k] = 0 beyond), each bit for bit oas_sample: one row state per
 //         OA block the group touches, shared by its dimensions in that block (oas_draw.glsl). Every
 //         construction and baseline; the call for a renderer's groups (camera ray, path vertex).
+//         An includer whose draws span at most R blocks may define OAS_STATIC_DRAW_BLOCKS R for
+//         speed (R rows a draw; NaN in every value of a draw that spans more: oas_draw.glsl).
 //   The same values, faster, from state made once and reused (the fast path):
 //   OasRow    oas_row(OasPattern p, uint pixelSeed, uint index, uint block)
 //   float     oas_row_dim(OasPattern p, OasRow r, uint col)
