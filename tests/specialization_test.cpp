@@ -69,31 +69,52 @@ std::vector<std::pair<std::string, oas::Pattern>> patterns()
     return list;
 }
 
+/// The consumer's six specialization constants for `pattern`, filled by the C API.
+oas::vk::ComputePipeline::SpecConstants constantsFor(const oas::Pattern& pattern)
+{
+    OasSpecialization spec;
+    oas_specialization(&pattern, &spec);
+    return {{0, spec.construction}, {1, spec.offset}, {2, spec.fieldKind}, {3, spec.fieldDegree}, {4, spec.smallN}, {5, spec.indexBits}};
+}
+
+/// The Sobol direction table, where the consumer reads it (binding 1).
+oas::vk::Buffer directionBuffer(oas::vk::Context& ctx)
+{
+    const auto& table = oas::sobolDirections();
+    oas::vk::Buffer directions(ctx, table.size() * sizeof(std::uint32_t));
+    std::memcpy(directions.data(), table.data(), table.size() * sizeof(std::uint32_t));
+    return directions;
+}
+
+/// Runs the consumer for `push`; its values, [sample][oas_sample, oas_draw][dim], from `values`.
+const float* runConsumer(oas::vk::Context& ctx, oas::vk::ComputePipeline& pipe, const Push& push, oas::vk::Buffer& values,
+                         oas::vk::Buffer& directions)
+{
+    std::memset(values.data(), 0, values.size());
+    oas::vk::Buffer* buffers[] = {&values, &directions};
+    ctx.dispatch(pipe, buffers, &push, sizeof(push), (push.spp + 7) / 8);
+    return static_cast<const float*>(values.data());
+}
+
 class Specialization : public oas::test::GpuTest {};
 
 TEST_F(Specialization, AMismatchedPatternGivesNaNNeverWrongValues)
 {
     oas::vk::Context& ctx = context();
     const auto list = patterns();
-    const auto& table = oas::sobolDirections();
-    oas::vk::Buffer directions(ctx, table.size() * sizeof(std::uint32_t));
-    std::memcpy(directions.data(), table.data(), table.size() * sizeof(std::uint32_t));
+    oas::vk::Buffer directions = directionBuffer(ctx);
     oas::vk::Buffer values(ctx, std::size_t(kMaxSamplesChecked) * 2 * kDims * sizeof(float));
     std::size_t matched = 0, refused = 0;
     for (const auto& [specName, specPattern] : list) {
         OasSpecialization spec;
         oas_specialization(&specPattern, &spec);
-        const oas::vk::ComputePipeline::SpecConstants constants = {
-            {0, spec.construction}, {1, spec.offset}, {2, spec.fieldKind}, {3, spec.fieldDegree}, {4, spec.smallN}, {5, spec.indexBits}};
-        oas::vk::ComputePipeline pipe(ctx, specialized_consumer_spv, sizeof(specialized_consumer_spv), 2, sizeof(Push), constants);
+        oas::vk::ComputePipeline pipe(ctx, specialized_consumer_spv, sizeof(specialized_consumer_spv), 2, sizeof(Push),
+                                      constantsFor(specPattern));
         for (const auto& [name, pattern] : list) {
             SCOPED_TRACE("shader specialized for " + specName + ", given " + name);
             const bool matches = oas_specialization_matches(&pattern, &spec) != 0;
-            Push push{pattern, std::min(pattern.N, kMaxSamplesChecked), kDims, kPixelSeed, 0};
-            std::memset(values.data(), 0, values.size());
-            oas::vk::Buffer* buffers[] = {&values, &directions};
-            ctx.dispatch(pipe, buffers, &push, sizeof(push), (push.spp + 7) / 8);
-            const auto* got = static_cast<const float*>(values.data());
+            const Push push{pattern, std::min(pattern.N, kMaxSamplesChecked), kDims, kPixelSeed, 0};
+            const float* got = runConsumer(ctx, pipe, push, values, directions);
             std::size_t wrong = 0;
             for (std::uint32_t i = 0; i < push.spp; ++i)
                 for (std::uint32_t way = 0; way < 2; ++way)
@@ -123,9 +144,7 @@ TEST_F(Specialization, ADrawWithinItsPromisedBlocksIsExactAndOnePastThemIsNaN)
     // + 1 blocks of B columns; within two, every value is oas::sample's bit for bit; past two
     // (blocks of 3 or 4 columns), every value is NaN. Baselines have no blocks: always exact.
     oas::vk::Context& ctx = context();
-    const auto& table = oas::sobolDirections();
-    oas::vk::Buffer directions(ctx, table.size() * sizeof(std::uint32_t));
-    std::memcpy(directions.data(), table.data(), table.size() * sizeof(std::uint32_t));
+    oas::vk::Buffer directions = directionBuffer(ctx);
     oas::vk::Buffer values(ctx, std::size_t(kMaxSamplesChecked) * 2 * kDims * sizeof(float));
     const std::pair<const char*, oas::Pattern> list[] = {
         {"bose 49 (8 columns)", make("bose", 49)},           {"bose 64 (9)", make("bose", 64)},
@@ -134,22 +153,15 @@ TEST_F(Specialization, ADrawWithinItsPromisedBlocksIsExactAndOnePastThemIsNaN)
         {"random 16", make("random", 16)},                   {"cmj2d 16", make("cmj2d", 16)}};
     std::size_t exact = 0, refused = 0;
     for (const auto& [name, pattern] : list) {
-        OasSpecialization spec;
-        oas_specialization(&pattern, &spec);
-        const oas::vk::ComputePipeline::SpecConstants constants = {
-            {0, spec.construction}, {1, spec.offset}, {2, spec.fieldKind}, {3, spec.fieldDegree}, {4, spec.smallN}, {5, spec.indexBits}};
         oas::vk::ComputePipeline pipe(ctx, specialized_consumer_two_blocks_spv, sizeof(specialized_consumer_two_blocks_spv), 2,
-                                      sizeof(Push), constants);
+                                      sizeof(Push), constantsFor(pattern));
         const bool baseline = !oas::isOrthogonalArray(oas_construction_name(pattern.construction));
         for (std::uint32_t first = 0; first < 20; ++first) {
             SCOPED_TRACE(std::string(name) + ", first dimension " + std::to_string(first));
             const std::uint32_t b = pattern.blockDims;
             const bool within = baseline || (first + kDims - 1) / b - first / b + 1 <= 2;
-            Push push{pattern, std::min(pattern.N, kMaxSamplesChecked), kDims, kPixelSeed, first};
-            std::memset(values.data(), 0, values.size());
-            oas::vk::Buffer* buffers[] = {&values, &directions};
-            ctx.dispatch(pipe, buffers, &push, sizeof(push), (push.spp + 7) / 8);
-            const auto* got = static_cast<const float*>(values.data());
+            const Push push{pattern, std::min(pattern.N, kMaxSamplesChecked), kDims, kPixelSeed, first};
+            const float* got = runConsumer(ctx, pipe, push, values, directions);
             std::size_t wrong = 0;
             for (std::uint32_t i = 0; i < push.spp; ++i)
                 for (std::uint32_t d = 0; d < kDims; ++d) {
