@@ -156,6 +156,16 @@ TEST(Smallpt, PathDimensionsFollowThePairLayout)
     EXPECT_THROW(smallpt::pathDimensions(bose49, smallpt::kPathVertices + 1), std::invalid_argument);
 }
 
+TEST(Smallpt, DrawBlocksCountsTheBlocksOfTheWidestDraw)
+{
+    // Bose 49, blocks of 8: the third vertex's draw is dims [14, 20), across the block start 16.
+    EXPECT_EQ(smallpt::drawBlocks(makePattern(OAS_BOSE, 49)), 2u);
+    // Bose 4, blocks of 3 whose only pair is columns (0, 1): the first vertex's light pair moves
+    // from 2 to the next block's 3, its bounce from 5 to 6, so its draw is [2, 10): blocks 0-3.
+    EXPECT_EQ(smallpt::drawBlocks(makePattern(OAS_BOSE, 4)), 4u);
+    EXPECT_EQ(smallpt::drawBlocks(makePattern(OAS_RANDOM, 16)), 1u);  // no blocks
+}
+
 TEST(Smallpt, PrefetchGroupsCutBlocksEvenly)
 {
     // Bose 49: blocks of 8 columns, one group each; 50 dims = 6 blocks and 2 columns of a 7th.

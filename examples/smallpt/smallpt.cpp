@@ -43,6 +43,29 @@ const char* samplerName(Sampler s)
     return "?";
 }
 
+namespace {
+/// One draw of smallpt.comp: dimensions [first, end).
+struct Draw {
+    std::uint32_t first, end;
+};
+
+/// smallpt.comp's layout replayed through the C API, one draw per path vertex: the camera's pixel
+/// sample, then per scattering vertex a 2D light sample, a 2D bounce, a lobe choice and a
+/// roulette number, every 2D sample on oas_pair_dimension.
+std::vector<Draw> pathDraws(const OasPattern& pattern)
+{
+    const std::uint32_t pixel = oas_pair_dimension(&pattern, 0);
+    std::vector<Draw> draws = {{pixel, pixel + 2}};
+    for (std::uint32_t vertex = 1; vertex < kPathVertices; ++vertex) {
+        const std::uint32_t first = draws.back().end;
+        std::uint32_t cursor = oas_pair_dimension(&pattern, first) + 2;  // light
+        cursor = oas_pair_dimension(&pattern, cursor) + 2;              // bounce
+        draws.push_back({first, cursor + 2});                           // lobe, roulette
+    }
+    return draws;
+}
+}  // namespace
+
 std::uint32_t pathDimensions(const OasPattern& pattern, std::uint32_t vertices)
 {
     if (vertices > kPathVertices)
@@ -50,18 +73,14 @@ std::uint32_t pathDimensions(const OasPattern& pattern, std::uint32_t vertices)
                                     std::to_string(kPathVertices - 1) + " bounces, smallpt.comp's MAX_DEPTH), not " +
                                     std::to_string(vertices));
     if (vertices == 0) return 0;
-    std::uint32_t cursor = oas_pair_dimension(&pattern, 0) + 2;  // the camera's pixel sample
-    for (std::uint32_t depth = 0; depth + 1 < vertices; ++depth) {
-        const std::uint32_t first = cursor;
-        cursor = oas_pair_dimension(&pattern, cursor) + 2;  // light
-        cursor = oas_pair_dimension(&pattern, cursor) + 2;  // bounce
-        cursor += 2;                                        // lobe, roulette
-        if (cursor - first > kDrawMax)
+    const std::vector<Draw> draws = pathDraws(pattern);
+    for (std::uint32_t v = 0; v < vertices; ++v)
+        if (draws[v].end - draws[v].first > kDrawMax)
             throw std::invalid_argument(std::string("smallpt: a path vertex of ") + oas_construction_name(pattern.construction) +
-                                        " with " + std::to_string(pattern.N) + " samples spans " + std::to_string(cursor - first) +
-                                        " dimensions, more than one oas_draw's " + std::to_string(kDrawMax));
-    }
-    return cursor;
+                                        " with " + std::to_string(pattern.N) + " samples spans " +
+                                        std::to_string(draws[v].end - draws[v].first) + " dimensions, more than one oas_draw's " +
+                                        std::to_string(kDrawMax));
+    return draws[vertices - 1].end;
 }
 
 Renderer::Renderer(oas::vk::Context& ctx, const OasPattern& pattern, Sampler sampler, std::uint32_t width, std::uint32_t height,
@@ -83,17 +102,8 @@ Renderer::Renderer(oas::vk::Context& ctx, const OasPattern& pattern, Sampler sam
 std::uint32_t drawBlocks(const OasPattern& pattern)
 {
     if (pattern.construction >= OAS_RANDOM) return 1;  // baselines have no blocks
-    const std::uint32_t b = pattern.blockDims;
-    auto spanned = [b](std::uint32_t first, std::uint32_t end) { return (end - 1) / b - first / b + 1; };
-    const std::uint32_t pixel = oas_pair_dimension(&pattern, 0);
-    std::uint32_t most = spanned(pixel, pixel + 2), cursor = pixel + 2;
-    for (std::uint32_t vertex = 1; vertex < kPathVertices; ++vertex) {  // the same walk as pathDimensions
-        const std::uint32_t first = cursor;
-        cursor = oas_pair_dimension(&pattern, cursor) + 2;  // light
-        cursor = oas_pair_dimension(&pattern, cursor) + 2;  // bounce
-        cursor += 2;                                        // lobe, roulette
-        most = std::max(most, spanned(first, cursor));
-    }
+    std::uint32_t most = 1;
+    for (const Draw& d : pathDraws(pattern)) most = std::max(most, (d.end - 1) / pattern.blockDims - d.first / pattern.blockDims + 1);
     return most;
 }
 
