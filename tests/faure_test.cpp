@@ -305,6 +305,80 @@ TEST(Faure, QPlusOneDimensionsAreRejected)
     }
 }
 
+// The faure pattern, as a renderer reads it (oas::sample): its words give the sequence (base q the
+// smallest prime power >= d, N = q^K the smallest power >= spp, worked out here by hand), each
+// dimension is the sequence at its element of its block under that block's key, with a fresh
+// pass seed past N; and, read back from the floats, every prefix of lambda q^2 samples puts
+// lambda points in each of the q x q cells of every pair of dimensions of a block, in the first
+// block and the second.
+TEST(Faure, ThePatternIsTheSequenceInBlocksOfD)
+{
+    const struct {
+        std::uint32_t d, spp, q, N;
+    } cases[] = {{2, 100, 2, 128}, {3, 27, 3, 27}, {4, 40, 4, 64}, {7, 50, 7, 343}, {9, 81, 9, 81}, {10, 121, 11, 121}};
+    const std::uint32_t seed = 0xc0ffeeu;
+    for (const auto& c : cases) {
+        oas::PatternRequest r;
+        r.sampler = "faure";
+        r.spp = c.spp;
+        r.strength = c.d;
+        const oas::Pattern p = oas::makePattern(r);
+        SCOPED_TRACE(oas::describe(p));
+        ASSERT_EQ(p.s, c.q);
+        ASSERT_EQ(p.N, c.N);
+        ASSERT_EQ(p.blockDims, c.d);
+        const OasFaure fa = oas::glsl::oas_faure_make(oas::glsl::oas_pattern_field(oas::glsl::toGlsl(p)), p.aux);
+        ASSERT_EQ(fa.strata, c.N);
+        std::vector<std::uint32_t> indices;
+        for (std::uint32_t i = 0; i < std::min(c.N, 300u); ++i) indices.push_back(i);
+        for (std::uint32_t i : {c.N, c.N + 1, 2 * c.N + 3}) indices.push_back(i);
+        for (std::uint32_t index : indices)
+            for (std::uint32_t dim = 0; dim < 2 * c.d; ++dim) {
+                const std::uint32_t pass = index / c.N, block = dim / c.d, element = dim % c.d;
+                const std::uint32_t key = oas::glsl::oas_faure_key(oas::glsl::oas_pass_seed(seed, pass), block, element);
+                const float want = oas::glsl::oas_faure_value(fa, element, index - pass * c.N, key);
+                ASSERT_EQ(oas::sample(p, seed, index, dim), want) << "index " << index << " dim " << dim;
+            }
+        for (std::uint32_t lambda : {1u, 2u}) {
+            const std::uint32_t n = lambda * c.q * c.q;
+            if (n > c.N) continue;
+            for (std::uint32_t block : {0u, 1u})
+                for (std::uint32_t j = 0; j < c.d; ++j)
+                    for (std::uint32_t k = j + 1; k < c.d; ++k) {
+                        std::vector<std::uint32_t> hits(c.q * c.q, 0);
+                        for (std::uint32_t i = 0; i < n; ++i) {
+                            const auto cell = [&](std::uint32_t dim) {
+                                return std::uint32_t(double(oas::sample(p, seed, i, block * c.d + dim)) * c.q);
+                            };
+                            ++hits[cell(j) * c.q + cell(k)];
+                        }
+                        ASSERT_TRUE(std::all_of(hits.begin(), hits.end(), [&](std::uint32_t h) { return h == lambda; }))
+                            << "prefix " << n << ", block " << block << ", dims " << j << ", " << k;
+                    }
+        }
+    }
+}
+
+// --explain's sentence on a prefix: the largest lambda q^m within spp, worked out by hand (base 11:
+// 100 = 9 x 11 + 1, 1000 = 8 x 121 + 32, 121 = 11^2; 5 < 11), and nothing for a sampler whose N is spp.
+TEST(Faure, ThePrefixGuaranteeNamesTheLargestWholeNets)
+{
+    oas::PatternRequest r;
+    r.sampler = "faure";
+    r.strength = 10;
+    auto guarantee = [&](std::uint32_t spp) {
+        r.spp = spp;
+        return oas::prefixGuarantee(oas::makePattern(r), spp);
+    };
+    EXPECT_NE(guarantee(100).find("the first 99 (9 x 11^1) are 9 (0,1,10)-nets"), std::string::npos) << guarantee(100);
+    EXPECT_NE(guarantee(100).find("the 1 after them"), std::string::npos) << guarantee(100);
+    EXPECT_NE(guarantee(1000).find("the first 968 (8 x 11^2) are 8 (0,2,10)-nets"), std::string::npos) << guarantee(1000);
+    EXPECT_NE(guarantee(121).find("are a (0,2,10)-net"), std::string::npos) << guarantee(121);
+    EXPECT_EQ(guarantee(121).find("after them"), std::string::npos) << guarantee(121);
+    EXPECT_NE(guarantee(5).find("no dimension is stratified yet"), std::string::npos) << guarantee(5);
+    EXPECT_EQ(oas::prefixGuarantee(oas::makePattern({.sampler = "bose", .spp = 121}), 121), "");
+}
+
 // Each value lies in its scrambled stratum of q^K exactly (as real numbers), is below 1, and the
 // bits are F * 2^-24; over many keys a sample's value is uniform (its mean within 4 s.e. of 1/2,
 // every tenth of [0, 1) within 4 s.e. of its share).

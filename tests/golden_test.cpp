@@ -6,6 +6,7 @@
 // oas-golden-writer and bump the minor version), since users' images and other ports depend on it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -205,6 +206,16 @@ bool isPrime(std::uint32_t n)
     return n >= 2;
 }
 
+/// q = p^k, p prime: dividing out q's smallest divisor (a prime) leaves 1.
+bool isPrimePower(std::uint32_t q)
+{
+    if (q < 2) return false;
+    std::uint32_t p = 2;
+    while (p <= q && q % p != 0) ++p;
+    while (q > 1 && q % p == 0) q /= p;
+    return q == 1;
+}
+
 void expectDivisor(std::uint32_t d, std::uint32_t recip, std::uint32_t shift, const char* what)
 {
     std::mt19937 rng(d);
@@ -222,20 +233,36 @@ TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
     const std::map<std::string, std::uint32_t> codes = {
         {"bose", 1},     {"bush", 2},    {"bose-bush", 3},   {"addelman-kempthorne", 4},
         {"cmjnd", 5},    {"random", 16}, {"jittered2d", 17}, {"cmj2d", 18},
-        {"zerotwo", 19}, {"halton", 20}, {"sobol-owen", 21}, {"sobol", 22}, {"sobol-burley", 23}};
+        {"zerotwo", 19}, {"halton", 20}, {"sobol-owen", 21}, {"sobol", 22}, {"sobol-burley", 23},
+        {"faure", 24}};
     const std::map<std::string, std::uint32_t> offsets = {{"centered", 0}, {"j", 1}, {"mj", 2}, {"cmj", 3}};
     for (const auto& c : golden()["cases"]) {
         SCOPED_TRACE(c["describe"].get<std::string>());
         const auto r = requestOf(c);
         const oas::Pattern w = patternOf(c);
         const std::uint32_t code = codes.at(r.sampler);
-        const bool oa = code < 16;
+        const bool oa = code < 16, faure = code == 24;
         EXPECT_EQ(w.construction, code);
-        EXPECT_EQ(w.N, r.spp);
+        if (!faure) EXPECT_EQ(w.N, r.spp);
         EXPECT_EQ(w.offset, oa ? offsets.at(r.offset) : 0u);
         const std::uint32_t s = w.s, t = w.strength, N = w.N;
-        if (oa) {
-            EXPECT_EQ(w.aux2, N / s) << "aux2 = N / s for the OAs";
+        if (faure) {
+            // d dims a block (the strength; by default the request's dims within 2 .. 16), base q
+            // the smallest prime power >= d, N = q^K the smallest power of q >= spp, K in aux.
+            const std::uint32_t d = r.strength ? r.strength : std::clamp(r.dims, 2u, 16u);
+            EXPECT_EQ(t, d);
+            EXPECT_EQ(w.blockDims, d);
+            std::uint32_t q = std::max(d, 2u);
+            while (!isPrimePower(q)) ++q;
+            EXPECT_EQ(s, q);
+            std::uint32_t n = q, k = 1;
+            while (n < r.spp) n *= q, ++k;
+            EXPECT_EQ(N, n);
+            EXPECT_EQ(w.aux, k);
+            EXPECT_EQ(w.aux2, 0u);
+        }
+        if (oa || faure) {
+            if (oa) EXPECT_EQ(w.aux2, N / s) << "aux2 = N / s for the OAs";
             std::uint64_t st = 1;
             for (std::uint32_t i = 0; i < t; ++i) st *= s;
             const std::uint32_t q = code == 3 ? 2 * s : s;  // Bose-Bush: GF(2q)
@@ -291,7 +318,7 @@ TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
                 EXPECT_EQ(t, r.strength ? r.strength : r.dims);
                 break;
             }
-        } else {
+        } else if (!faure) {
             EXPECT_EQ(s, N);
             EXPECT_EQ(w.blockDims, code == 20 ? 32u : code == 21 || code == 22 ? 1024u : code == 23 ? 4u : code == 16 ? 1u : 2u);
             EXPECT_EQ(w.strength, code == 16 ? 0u : code >= 20 ? 1u : 2u);

@@ -167,14 +167,16 @@ TEST(BaselineColumns, EveryBaselineEqualsOasSampleBitForBit)
                 oas::PatternRequest r;
                 r.sampler = name;
                 r.spp = spp;
+                if (name == "faure") r.strength = 4;  // base 4, GF(2^2): its sequences reach 4^12 = 2^24
                 const oas::Pattern p = oas::makePattern(r);
+                const std::uint32_t N = p.N;  // spp, but for faure the power of its base q^K >= spp
                 const oas::BaselineColumns columns(p, isa);
                 std::vector<float> out(600);
-                const std::uint32_t lastPass = (0xffffffffu / spp - 1) * spp;  // the last whole pass
-                for (std::uint32_t firstIndex : {0u, 5u, 3 * spp + 1, lastPass + 2, spp - std::min(spp, 600u)})
+                const std::uint32_t lastPass = (0xffffffffu / N - 1) * N;  // the last whole pass
+                for (std::uint32_t firstIndex : {0u, 5u, 3 * N + 1, lastPass + 2, N - std::min(N, 600u)})
                     for (std::uint32_t dim : {0u, 1u, 2u, 3u, 4u, 7u, 31u, 32u, 33u, 1023u, 1024u, 1025u, 5000u})
                         for (std::uint32_t seed : {0u, 0x9e3779b9u}) {
-                            const std::uint32_t count = std::min({columns.samplesLeftInPass(firstIndex), 600u, spp});
+                            const std::uint32_t count = std::min({columns.samplesLeftInPass(firstIndex), 600u, N});
                             columns.values(seed, dim, firstIndex, count, out.data());
                             for (std::uint32_t k = 0; k < count; ++k, ++compared)
                                 ASSERT_EQ(out[k], oas::sample(p, seed, firstIndex + k, dim))

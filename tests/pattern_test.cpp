@@ -191,7 +191,7 @@ TEST(PatternNames, CppListsTheCBuildersNamesInItsOrder)
     EXPECT_EQ(oas::samplerNames(), fromC);
     EXPECT_EQ(fromC, (std::vector<std::string>{"bose", "bush", "bose-bush", "addelman-kempthorne", "cmjnd", "random",
                                                "jittered2d", "cmj2d", "zerotwo", "halton", "sobol", "sobol-owen",
-                                               "sobol-burley"}));
+                                               "sobol-burley", "faure"}));
     for (std::size_t i = 0; oas_construction_at(i) != 0; ++i) {
         const std::uint32_t code = oas_construction_at(i);
         std::uint32_t back = 0;
@@ -249,10 +249,14 @@ TEST(PatternCounts, RulesMatchTrialBuildsForEveryConstructionAndStrength)
         for (std::uint32_t t = 0; t <= OAS_MAX_STRENGTH + 1; ++t) {
             const auto built = builtCounts(code, t, 1, hi);
             EXPECT_EQ(ruleCounts(code, t, 1, hi), built) << "construction " << code << ", strength " << t;
-            if (code >= OAS_RANDOM && oas_construction_name(code) != nullptr && t <= OAS_MAX_STRENGTH) {
+            if (code >= OAS_RANDOM && code != OAS_FAURE && oas_construction_name(code) != nullptr && t <= OAS_MAX_STRENGTH) {
                 EXPECT_EQ(built.size(), hi) << "the baselines take any count";
             }
         }
+    // Faure takes any count up to its longest sequence, q^K with K <= 12 digits: base 2 (d <= 2,
+    // the default 0 included) stops at 2^12; base 3 (d = 3) at 3^12 = 531441, past this range.
+    for (std::uint32_t t : {0u, 1u, 2u}) EXPECT_EQ(builtCounts(OAS_FAURE, t, 1, hi).size(), 4096u) << t;
+    EXPECT_EQ(builtCounts(OAS_FAURE, 3, 1, hi).size(), hi);
 }
 
 TEST(PatternCounts, RulesMatchTrialBuildsOverTheWholeRange)

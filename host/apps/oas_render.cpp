@@ -167,6 +167,8 @@ int main(int argc, char** argv)
                           << " shapes, " << scene.lights.size() + scene.areaLightCount() << " lights\n"
                           << "dimension plan: " << plan.explain() << "sampler: " << choice << "\n"
                           << "samples per pixel: " << scene.sampler.spp << "\n";
+                const std::string prefix = oas::prefixGuarantee(pattern, scene.sampler.spp);
+                if (!prefix.empty()) std::cout << "progressive: " << prefix << "\n";
                 return 0;
             }
             if (scene.lights.empty() && scene.areaLightCount() == 0 && !scene.hasEnvironment())

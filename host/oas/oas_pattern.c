@@ -198,6 +198,7 @@ static const struct {
     {"sobol", OAS_SOBOL},
     {"sobol-owen", OAS_SOBOL_OWEN},
     {"sobol-burley", OAS_SOBOL_BURLEY},
+    {"faure", OAS_FAURE},
 };
 #define OASP_NAME_COUNT (sizeof oasp_names / sizeof oasp_names[0])
 
@@ -265,6 +266,27 @@ static void oasp_set_field(OasPattern* pat, uint32_t q)
     pat->fieldK = k;
     pat->fieldQ = q;
     pat->fieldPoly = k > 1 ? oas_primitive_polynomial(p, k) : 0;
+}
+
+/* Faure's base for d dimensions a block: the smallest prime power q >= max(d, 2) (a (0,s)-sequence
+ * in base q has s <= q dimensions, one field element each; Niederreiter 1987). Every q up to
+ * OAS_MAX_STRENGTH + 1 = 25 has a field the shaders multiply in. */
+static uint32_t oasp_faure_base(uint32_t d)
+{
+    uint32_t q = d < 2 ? 2 : d;
+    while (!oas_prime_power(q, NULL, NULL)) ++q;
+    return q;
+}
+
+/* The longest Faure sequence in base q: q^K with K <= OAS_FAURE_MAX_DIGITS and q^K <= OAS_MAX_SAMPLES. */
+static uint32_t oasp_faure_longest(uint32_t q)
+{
+    uint32_t n = q, k = 1;
+    while (k < OAS_FAURE_MAX_DIGITS && (uint64_t)n * q <= OAS_MAX_SAMPLES) {
+        n *= q;
+        ++k;
+    }
+    return n;
 }
 
 /* The construction's own fields; returns OAS_PATTERN_NOT_EXACT with a reason when spp cannot be
@@ -377,6 +399,26 @@ static int oasp_fields(OasPattern* pat, uint32_t code, uint32_t spp, uint32_t t,
         pat->s = q;
         pat->blockDims = t;
         return OAS_PATTERN_OK;
+    case OAS_FAURE: {
+        /* t is d, the dimensions of a block; N = q^K >= spp, the sequence the render takes a prefix of. */
+        uint32_t n = 1, digits = 0;
+        q = oasp_faure_base(t);
+        if (spp > oasp_faure_longest(q)) {
+            oasp_say(why, whyLen, "spp %u is more than the %u samples of the longest Faure sequence in base %u (%u digits)",
+                     spp, oasp_faure_longest(q), q, (uint32_t)OAS_FAURE_MAX_DIGITS);
+            return OAS_PATTERN_NOT_EXACT;
+        }
+        while (n < spp || digits == 0) {
+            n *= q;
+            ++digits;
+        }
+        pat->N = n;
+        pat->s = q;
+        pat->blockDims = t;
+        pat->aux = digits;
+        oasp_set_field(pat, q);
+        return OAS_PATTERN_OK;
+    }
     default: { /* the baselines take any N */
         uint32_t nx = oasp_integer_root(spp, 2);
         pat->s = spp;
@@ -413,8 +455,10 @@ int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uin
         return OAS_PATTERN_BAD_ARGUMENT;
     }
     if (oas_construction_name(code) == NULL) {
-        oasp_say(why, whyLen, "construction %u is unknown: valid %u .. %u (orthogonal arrays), %u .. %u (baselines)", code,
-                 (uint32_t)OAS_BOSE, (uint32_t)OAS_CMJND, (uint32_t)OAS_RANDOM, (uint32_t)OAS_SOBOL_BURLEY);
+        oasp_say(why, whyLen,
+                 "construction %u is unknown: valid %u .. %u (orthogonal arrays), %u .. %u (baselines), %u (faure)", code,
+                 (uint32_t)OAS_BOSE, (uint32_t)OAS_CMJND, (uint32_t)OAS_RANDOM, (uint32_t)OAS_SOBOL_BURLEY,
+                 (uint32_t)OAS_FAURE);
         return OAS_PATTERN_BAD_ARGUMENT;
     }
     if (spp < 1 || spp > OAS_MAX_SAMPLES) {
@@ -522,6 +566,12 @@ size_t oas_valid_counts(uint32_t construction, uint32_t strength, uint32_t lo, u
         for (q = 2; (n = oasp_pow_capped(q, strength, OAS_MAX_SAMPLES)) != 0; ++q)
             if (!oasp_count(&c, n)) break;
         return c.count;
+    case OAS_FAURE: /* any spp up to the longest sequence in the block's base */
+        n = oasp_faure_longest(oasp_faure_base(strength));
+        if (c.hi > n) c.hi = n;
+        if (c.lo > c.hi) return 0;
+        for (n = c.lo; n - c.lo < c.capacity && n <= c.hi; ++n) c.out[n - c.lo] = n;
+        return (size_t)(c.hi - c.lo) + 1;
     default: /* the baselines take any N */
         for (n = c.lo; n - c.lo < c.capacity && n <= c.hi; ++n) c.out[n - c.lo] = n;
         return (size_t)(c.hi - c.lo) + 1;

@@ -26,7 +26,7 @@ extern "C" {
  *  uint32_t in the same order under the same names (tests/pattern_test.cpp reads both sources and
  *  compares the field lists). The C++ oas::Pattern derives from this struct rather than restating it. */
 typedef struct OasPattern {
-    uint32_t construction;                        /**< OAS_BOSE ... OAS_SOBOL_BURLEY */
+    uint32_t construction;                        /**< OAS_BOSE ... OAS_FAURE */
     uint32_t offset;                              /**< OAS_OFFSET_* (0 for the baselines) */
     uint32_t N;                                   /**< points per pixel in one OA (one pass) */
     uint32_t s;                                   /**< levels per dimension */
@@ -51,7 +51,8 @@ enum {
     OAS_HALTON = 20,
     OAS_SOBOL_OWEN = 21,
     OAS_SOBOL = 22,
-    OAS_SOBOL_BURLEY = 23
+    OAS_SOBOL_BURLEY = 23,
+    OAS_FAURE = 24
 };
 enum { OAS_OFFSET_CENTERED = 0, OAS_OFFSET_J = 1, OAS_OFFSET_MJ = 2, OAS_OFFSET_CMJ = 3 };
 enum {
@@ -62,7 +63,8 @@ enum {
     OAS_HALTON_BLOCK_DIMS = 32, /**< the GLSL's OAS_HALTON_BLOCK (oas_baselines.glsl) */
     OAS_SOBOL_BLOCK_DIMS = 1024, /**< the dimensions Joe and Kuo's table gives us (oas_joe_kuo.inc);
                                         the GLSL's OAS_SOBOL_BLOCK */
-    OAS_SOBOL_BURLEY_GROUP_DIMS = 4 /**< Burley's padding: 4D Sobol groups (OAS_SOBOL_BURLEY_GROUP) */
+    OAS_SOBOL_BURLEY_GROUP_DIMS = 4, /**< Burley's padding: 4D Sobol groups (OAS_SOBOL_BURLEY_GROUP) */
+    OAS_FAURE_MAX_DIGITS = 12        /**< the GLSL's OAS_FAURE_MAX_DIGITS: K <= 12 index digits */
 };
 /* GLSL cannot include this header, so shaders/oas restates the codes, offsets and block sizes;
  * tests/pattern_test.cpp compiles the GLSL as C++ and static_asserts each value against these. */
@@ -75,9 +77,14 @@ enum {
 };
 
 /**
- * Builds the pattern for `construction` (OAS_BOSE ... OAS_SOBOL_BURLEY) with exactly `spp` points per
+ * Builds the pattern for `construction` (OAS_BOSE ... OAS_FAURE) with exactly `spp` points per
  * pixel. `strength` 0 means the default: 2, or for OAS_CMJND the number of dimensions of one full
- * factorial, which must then be given (CMJND has no default). `offset` is OAS_OFFSET_* and is
+ * factorial, which must then be given (CMJND has no default).
+ * OAS_FAURE, the progressive sampler, is the exception on both counts: its `strength` is d, the
+ * dimensions of one block (1 .. OAS_MAX_STRENGTH; 0 means 2), its base q the smallest prime
+ * power >= max(d, 2), and N = q^K the smallest power of q >= spp (K <= OAS_FAURE_MAX_DIGITS, N <=
+ * OAS_MAX_SAMPLES): the sequence a render takes its first spp samples of. Every prefix of
+ * lambda q^m samples is a (0,m,d)-net in each block (docs/DESIGN-NOTES.md). `offset` is OAS_OFFSET_* and is
  * ignored (stored as 0) by the baselines. On failure *out is zeroed and, when why != NULL, a
  * NUL-terminated message (at most whyLen bytes) names the value and the rule it breaks.
  */
@@ -88,7 +95,8 @@ int oas_make_pattern(uint32_t construction, uint32_t spp, uint32_t strength, uin
  *  each code once, then 0 past the last. Tools list samplers in this order. */
 uint32_t oas_construction_at(size_t index);
 /** Construction code for a sampler name ("bose", "bush", "bose-bush", "addelman-kempthorne",
- *  "cmjnd", "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol", "sobol-owen", "sobol-burley"); 0 on success. */
+ *  "cmjnd", "random", "jittered2d", "cmj2d", "zerotwo", "halton", "sobol", "sobol-owen", "sobol-burley",
+ *  "faure"); 0 on success. */
 int oas_construction_from_name(const char* name, uint32_t* construction);
 /** The sampler name of a construction code, or NULL. */
 const char* oas_construction_name(uint32_t construction);
@@ -107,6 +115,8 @@ const char* oas_pattern_field_name(size_t word);
  *   addelman-kempthorne OA(2q^2, 2q+1, q, 2), t = 2: n = 2q^2 <= OAS_MAX_SAMPLES, q an odd prime power;
  *   cmjnd               OA(s^t, t, s, t), t >= 1: n = s^t <= OAS_MAX_SAMPLES, any s >= 2;
  *   the baselines       any n in 1 .. OAS_MAX_SAMPLES;
+ *   faure               any n up to q^K, the largest power of its base q within OAS_MAX_SAMPLES and
+ *                       OAS_FAURE_MAX_DIGITS digits (4096 for q = 2, 531441 for q = 3);
  * and for the OA constructions over GF(q) only the fields whose products the shaders can form in
  * one 32-bit word. `strength` 0 means the default, as for oas_make_pattern (2; none for cmjnd,
  * which then has no counts); an unknown construction or strength > OAS_MAX_STRENGTH has none.

@@ -60,9 +60,15 @@ std::string firstCounts(std::uint32_t code, std::size_t count)
     return out.substr(0, out.size() - 2) + " ...";
 }
 
+/// Faure's default dimensions per block: all of them up to 16 (base q >= d, so more dimensions in
+/// one block mean a coarser base: 16 keeps q^2 = 256 strata in 2D within a few hundred samples;
+/// blocks past the first are scrambled independently, as the OAs pad).
+constexpr std::uint32_t kFaureDefaultBlockDims = 16;
+
 std::uint32_t defaultStrength(std::uint32_t code, std::uint32_t dims)
 {
     if (code == OAS_CMJND) return std::max<std::uint32_t>(dims, 1);
+    if (code == OAS_FAURE) return std::clamp<std::uint32_t>(dims, 2, kFaureDefaultBlockDims);
     return 2;
 }
 
@@ -173,6 +179,10 @@ std::string samplerDescription(const std::string& name)
     case OAS_SOBOL_BURLEY:
         return "Sobol-Burley: 4D Owen-scrambled Sobol padded with hash-shuffled indices (Burley 2020; Cycles' default; "
                "baseline)";
+    case OAS_FAURE:
+        return "progressive: Owen-scrambled generalized Faure (0,s)-sequence in base q >= d (d = strength: dims per block, "
+               "default min(dims, " + std::to_string(kFaureDefaultBlockDims) + ")); N = the smallest q^K >= spp, every prefix of "
+               "q^m samples a (0,m,d)-net";
     }
     return name;  // a construction the C builder names but this list does not describe yet
 }
@@ -324,6 +334,28 @@ Choice chooseOrthogonalArray(const PatternRequest& request)
     return {best.pat, best.name, why.str()};
 }
 
+std::string prefixGuarantee(const Pattern& p, std::uint32_t spp)
+{
+    if (p.construction != OAS_FAURE || spp == 0) return "";
+    const std::uint32_t q = p.s, used = std::min(spp, p.N);
+    std::uint32_t m = 0, qm = 1;
+    while (std::uint64_t(qm) * q <= used) qm *= q, ++m;
+    const std::uint32_t lambda = used / qm, whole = lambda * qm;
+    std::ostringstream out;
+    out << "the first " << used << " of the sequence's " << p.N << " samples: ";
+    if (m == 0) {
+        out << "fewer than q = " << q << ", so no dimension is stratified yet";
+        return out.str();
+    }
+    const std::string net = "(0," + std::to_string(m) + "," + std::to_string(p.blockDims) + ")-net";
+    out << "the first " << whole << " (" << lambda << " x " << q << "^" << m << ") are "
+        << (lambda == 1 ? "a " + net : std::to_string(lambda) + " " + net + "s") << ": in every block of " << p.blockDims
+        << " dims, every grid of q^k1 x ... x q^kd cells with k1 + ... + kd = " << m << " has " << lambda << " sample"
+        << (lambda == 1 ? "" : "s") << " in each cell";
+    if (whole < used) out << "; the " << used - whole << " after them start the next one";
+    return out.str();
+}
+
 std::string describe(const Pattern& p)
 {
     std::ostringstream out;
@@ -331,6 +363,9 @@ std::string describe(const Pattern& p)
     if (p.construction < OAS_RANDOM) {
         out << " q=" << p.s << " N=" << p.N << " t=" << p.strength << " " << offsetName(p.offset) << ", " << p.blockDims
             << " dims/block";
+        if (p.fieldK > 1) out << ", GF(" << p.fieldP << "^" << p.fieldK << ")";
+    } else if (p.construction == OAS_FAURE) {
+        out << " q=" << p.s << " N=" << p.N << " (" << p.aux << " digits), " << p.blockDims << " dims/block";
         if (p.fieldK > 1) out << ", GF(" << p.fieldP << "^" << p.fieldK << ")";
     } else {
         out << " N=" << p.N;

@@ -115,6 +115,9 @@ std::vector<std::uint32_t> validCounts(const std::string& sampler, std::uint32_t
 
 /// "bose q=11 N=121 t=2 cmj, 12 dims/block", for logs and headers.
 std::string describe(const Pattern& pattern);
+/// What the first `spp` samples of a progressive pattern (faure) guarantee, in a sentence: the
+/// largest lambda q^m <= spp and the nets it holds; "" for the other samplers, whose N is spp.
+std::string prefixGuarantee(const Pattern& pattern, std::uint32_t spp);
 /// Sampler name of a pattern's construction code.
 std::string constructionName(std::uint32_t construction);
 

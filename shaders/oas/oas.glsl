@@ -170,8 +170,8 @@
 #include "oas_gf.glsl"
 #include "oas_pattern.glsl"
 #include "oas_oa.glsl"
-#include "oas_baselines.glsl"
 #include "oas_faure.glsl"
+#include "oas_baselines.glsl"
 
 /// oas_sample for the baseline samplers alone (construction >= OAS_RANDOM): a caller that handles
 /// the OA constructions through the fast path calls this for the rest, so the OA code is compiled

@@ -513,6 +513,7 @@ float oas_halton_column_dim(OasPattern pat, OasHaltonColumn c, uint index)
 float oas_baseline_dim(OasPattern pat, uint seed, uint index, uint dim)
 {
     if (OAS_CONSTRUCTION(pat) == OAS_SOBOL_BURLEY) return oas_specialized_value(pat, oas_sobol_burley_dim(seed, index, dim));
+    if (OAS_CONSTRUCTION(pat) == OAS_FAURE) return oas_specialized_value(pat, oas_faure_dim(pat, seed, index, dim));
     bool sobol = OAS_CONSTRUCTION(pat) == OAS_SOBOL || OAS_CONSTRUCTION(pat) == OAS_SOBOL_OWEN;
 #ifdef OAS_SOBOL_DIRECTION
     if (sobol) return oas_sobol_column_dim(pat, oas_sobol_column(seed, dim), index);

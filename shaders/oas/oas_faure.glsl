@@ -168,4 +168,29 @@ float oas_faure_value(OasFaure fa, uint element, uint index, uint key)
     return fits ? v : uintBitsToFloat(0x7fc00000u);
 }
 
+/// The sequence of a pattern (OAS_FAURE): the pattern holds every constant oas_faure_make would
+/// compute (s = q and N = q^K with their division constants, K in aux), so none is made per value.
+OasFaure oas_faure_of(OasPattern pat)
+{
+    OasFaure fa;
+    fa.field = oas_pattern_field(pat);
+    fa.digits = pat.aux;
+    fa.strata = pat.N;
+    fa.recipQ = pat.recipS;
+    fa.shiftQ = pat.recipShifts & 0xffu;
+    fa.recipStrata = pat.recipN;
+    fa.shiftStrata = (pat.recipShifts >> 16u) & 0xffu;
+    return fa;
+}
+
+/// Value `index` (< N, within one pass) of dimension `dim` for a pattern's pass seed: blocks of
+/// blockDims (<= q) dimensions, each dimension one field element of its block (0, 1, ...), each
+/// block scrambled by its own keys (oas_faure_key), as the OAs pad with independent blocks.
+float oas_faure_dim(OasPattern pat, uint passSeed, uint index, uint dim)
+{
+    uint block = dim / pat.blockDims;
+    uint element = dim - block * pat.blockDims;
+    return oas_faure_value(oas_faure_of(pat), element, index, oas_faure_key(passSeed, block, element));
+}
+
 #endif // OAS_FAURE_GLSL

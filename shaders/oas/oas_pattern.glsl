@@ -18,6 +18,8 @@ const uint OAS_HALTON = 20u;              ///< Halton with random digit permutat
 const uint OAS_SOBOL_OWEN = 21u;          ///< Sobol, per-bit nested uniform (Owen) scramble (needs OAS_SOBOL_DIRECTION)
 const uint OAS_SOBOL = 22u;               ///< Sobol, hash-based Owen scramble, Burley 2020 (needs OAS_SOBOL_DIRECTION)
 const uint OAS_SOBOL_BURLEY = 23u;        ///< Burley 2020: padded 4D Owen-scrambled Sobol, hash-shuffled (no table)
+// ... and the progressive sampler (oas_faure.glsl), which takes the baselines' per-value path.
+const uint OAS_FAURE = 24u;               ///< Owen-scrambled generalized Faure (0,s)-sequence in base q, any prefix
 
 // Offsets: where a point sits inside its OA stratum.
 const uint OAS_OFFSET_CENTERED = 0u;  ///< centre of the stratum
@@ -31,7 +33,7 @@ const uint OAS_OFFSET_CMJ = 3u;       ///< correlated multi-jittered: one substr
 /// struct is OasPattern in host/oas/oas_pattern.h, these words in this order: a field added here
 /// goes there too (tests/pattern_test.cpp reads both and fails when they differ).
 struct OasPattern {
-    uint construction; ///< OAS_BOSE ... OAS_SOBOL_BURLEY
+    uint construction; ///< OAS_BOSE ... OAS_FAURE
     uint offset;       ///< OAS_OFFSET_* (OA constructions only)
     uint N;            ///< points per pixel (one OA); sample indices >= N start fresh OAs
     uint s;            ///< levels (strata) per dimension of the OA

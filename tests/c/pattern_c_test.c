@@ -95,7 +95,8 @@ int main(void)
     expectRejected(OAS_ADDELMAN_KEMPTHORNE, 32, 0, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "odd prime power");
     expectRejected(OAS_ADDELMAN_KEMPTHORNE, 19, 0, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "2q^2");
     expectRejected(OAS_CMJND, 1, 1, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "s >= 2");
-    expectRejected(OAS_SOBOL_BURLEY + 1, 49, 0, OAS_OFFSET_CMJ, OAS_PATTERN_BAD_ARGUMENT, "16 .. 23 (baselines)");
+    expectRejected(OAS_FAURE + 1, 49, 0, OAS_OFFSET_CMJ, OAS_PATTERN_BAD_ARGUMENT, "16 .. 23 (baselines), 24 (faure)");
+    expectRejected(OAS_FAURE, 5000, 2, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "longest Faure sequence in base 2 (12 digits); nearest valid spp: 4096");
     /* Refusals name the nearest counts the construction makes (7^2, 8^2; 2*3^2, 2*5^2; 3^3 .. 4^3 with
      * q >= t = 3 from 3; s^1 from s = 2), as the C++ API does. */
     expectRejected(OAS_BOSE, 63, 0, OAS_OFFSET_CMJ, OAS_PATTERN_NOT_EXACT, "63 is not a square q^2; nearest valid spp: 49, 64");
@@ -113,9 +114,9 @@ int main(void)
         check(oas_construction_from_name(oas_construction_name(oas_construction_at(i)), &code) == 0 &&
                   code == oas_construction_at(i), "listed code -> name -> code", i);
     }
-    check(i == 13 && oas_construction_at(0) == OAS_BOSE && oas_construction_at(10) == OAS_SOBOL &&
-              oas_construction_at(12) == OAS_SOBOL_BURLEY,
-          "13 constructions", i);
+    check(i == 14 && oas_construction_at(0) == OAS_BOSE && oas_construction_at(10) == OAS_SOBOL &&
+              oas_construction_at(12) == OAS_SOBOL_BURLEY && oas_construction_at(13) == OAS_FAURE,
+          "14 constructions", i);
     /* Valid counts from C (tests/pattern_test.cpp compares them with trial builds). */
     {
         uint32_t counts[8];

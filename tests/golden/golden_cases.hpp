@@ -61,6 +61,11 @@ inline const std::vector<Case>& cases()
         {"sobol-owen", 10, 0, "cmj", 3},
         {"sobol-burley", 16, 0, "cmj", 3},
         {"sobol-burley", 10, 0, "cmj", 3},
+        {"faure", 4, 0, "cmj", 2},     // base 2 (the C API's default d = 2), a whole sequence
+        {"faure", 27, 3, "cmj", 4},    // base 3, d = 3 of 4 dims: a second block
+        {"faure", 10, 4, "cmj", 4},    // GF(2^2), N = 16 > spp: a prefix
+        {"faure", 81, 9, "cmj", 9},    // GF(3^2)
+        {"faure", 100, 0, "cmj", 10},  // the C++ default d = dims: base 11, N = 121
     };
     return list;
 }
