@@ -234,6 +234,8 @@ int main(int argc, char** argv)
             {"sobol", 128, 0, "cmj"},
             {"sobol-owen", 128, 0, "cmj"},
             {"sobol-burley", 128, 0, "cmj"},
+            {"faure", 121, 11, "cmj"},   // base 11, K = 2 (its 11 dims a block: 8 used here)
+            {"faure", 1331, 11, "cmj"},  // base 11, K = 3
         };
         std::unique_ptr<oas::vk::Context> context;
         std::unique_ptr<oas::GpuGenerator> gpu, hashOnly;

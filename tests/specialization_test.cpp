@@ -66,6 +66,12 @@ std::vector<std::pair<std::string, oas::Pattern>> patterns()
     // Halton's digit loops stop at the bits of N - 1 (OAS_STATIC_INDEX_BITS): a shader made for
     // N = 16 (4 bits) must refuse N = 121 (7), one made for 121 must give 16's values.
     list.push_back({"halton 121", make("halton", 121)});
+    // Faure's K digits are its OAS_STATIC_INDEX_BITS: "faure 16" above has d = kDims = 6, base 7,
+    // K = 2; base 11 with K = 2 shares that specialization and must give its own values; base 3
+    // with K = 4 must be refused by it and it by base 3's; GF(3^2) differs in its field.
+    list.push_back({"faure 81 d=3 (K=4)", make("faure", 81, "cmj", 3)});
+    list.push_back({"faure 81 d=9 (GF(3^2), K=2)", make("faure", 81, "cmj", 9)});
+    list.push_back({"faure 100 d=10 (q=11, K=2)", make("faure", 100, "cmj", 10)});
     return list;
 }
 
@@ -197,6 +203,10 @@ TEST(SpecializationC, FieldKindDegreeAndSizeFollowTheConstruction)
         {"addelman-kempthorne", 162, 0, 2, 2, 1, 24}, {"cmjnd", 27, 3, 0, 1, 1, 24}, {"halton", 16, 0, 0, 1, 1, 4},
         {"halton", 17, 0, 0, 1, 1, 5},     {"halton", 1, 0, 0, 1, 1, 0},  {"halton", 100000, 0, 0, 1, 0, 17},
         {"sobol", 100000, 0, 0, 1, 0, 24},
+        // faure: its field GF(q), q the smallest prime power >= d, and indexBits K, the base-q
+        // digits of N = q^K >= spp: 100 -> 11^2, 81 -> 9^2, 10 -> 4^2 over GF(2^2), 300 -> 3^6.
+        {"faure", 100, 10, 0, 1, 1, 2},    {"faure", 81, 9, 2, 2, 1, 2},  {"faure", 10, 4, 1, 2, 1, 2},
+        {"faure", 300, 3, 0, 1, 1, 6},
     };
     for (const auto& c : cases) {
         const oas::Pattern pattern = make(c.sampler, c.spp, "mj", c.strength);
@@ -219,7 +229,7 @@ TEST(SpecializationC, FieldKindDegreeAndSizeFollowTheConstruction)
         other = s;
         other.indexBits = 24;  // any N
         EXPECT_TRUE(oas_specialization_matches(&pattern, &other));
-        if (c.indexBits > 0 && c.indexBits < 24) {  // one bit fewer no longer holds N - 1
+        if (c.indexBits > 0 && c.indexBits < 24) {  // one bit fewer no longer holds N - 1 (faure: another K)
             other.indexBits = c.indexBits - 1;
             EXPECT_FALSE(oas_specialization_matches(&pattern, &other));
         }

@@ -625,9 +625,11 @@ void oas_specialization(const OasPattern* pattern, OasSpecialization* out)
     out->fieldKind = pattern->fieldK <= 1 ? 0u : (pattern->fieldP == 2 ? 1u : 2u);
     out->fieldDegree = pattern->fieldK <= 1 ? 1u : pattern->fieldK;
     out->smallN = pattern->N <= 65536u ? 1u : 0u;
-    /* Only Halton's work grows with the index's digits; the others keep 24 so that patterns of one
-       kind and any N share a pipeline. */
+    /* Only Halton's and Faure's work grows with the index's digits (Halton: the bits of N - 1;
+       Faure: K, its base-q digits); the others keep 24 so that patterns of one kind and any N
+       share a pipeline. */
     out->indexBits = OASP_INDEX_BITS;
+    if (pattern->construction == OAS_FAURE) out->indexBits = pattern->aux; /* K, its base-q index digits */
     if (pattern->construction == OAS_HALTON) {
         uint32_t bits = 0;
         while (bits < OASP_INDEX_BITS && ((pattern->N - 1u) >> bits) != 0u) ++bits;
@@ -641,7 +643,8 @@ int oas_specialization_matches(const OasPattern* pattern, const OasSpecializatio
     oas_specialization(pattern, &own);
     return own.construction == spec->construction && own.offset == spec->offset && own.fieldKind == spec->fieldKind &&
            own.fieldDegree == spec->fieldDegree && (spec->smallN == 0 || own.smallN == 1) &&
-           (spec->indexBits >= OASP_INDEX_BITS || ((pattern->N - 1u) >> spec->indexBits) == 0u);
+           (spec->indexBits >= OASP_INDEX_BITS || (pattern->construction == OAS_FAURE ? own.indexBits == spec->indexBits
+                                                                                       : ((pattern->N - 1u) >> spec->indexBits) == 0u));
 }
 
 /* ---- Dimension layout ---------------------------------------------------------------------- */

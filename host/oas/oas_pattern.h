@@ -138,15 +138,16 @@ typedef struct OasSpecialization {
     uint32_t fieldKind;    /**< OAS_STATIC_FIELD_KIND: 0 prime field or none, 1 GF(2^k), k > 1, 2 GF(p^k), p odd, k > 1 */
     uint32_t fieldDegree;  /**< OAS_STATIC_FIELD_DEGREE: k of GF(p^k), 1 with no field */
     uint32_t smallN;       /**< OAS_STATIC_SMALL_N: 1 when N <= 65536, else 0 */
-    uint32_t indexBits;    /**< OAS_STATIC_INDEX_BITS: Halton, the bits of N - 1 (its digit loops stop there); 24 for the
-                                other constructions, whose work does not depend on it (24 takes any N) */
+    uint32_t indexBits;    /**< OAS_STATIC_INDEX_BITS: Halton, the bits of N - 1 (its digit loops stop there); faure, K
+                                (its index's base-q digits, N = q^K); 24 for the other constructions, whose work does
+                                not depend on it (24 takes any N) */
 } OasSpecialization;
 
 /** Fills *out with the specialization of `pattern` (made by oas_make_pattern). */
 void oas_specialization(const OasPattern* pattern, OasSpecialization* out);
 /** 1 when a shader specialized with `spec` gives `pattern`'s values, 0 when it would give NaN: every
  *  value equal, except that smallN = 0 takes any N (its stratum points divide the long way) and
- *  indexBits = B takes every N <= 2^B. */
+ *  indexBits = B takes every N <= 2^B (for faure, exactly the sequences of K = B digits). */
 int oas_specialization_matches(const OasPattern* pattern, const OasSpecialization* spec);
 
 /**

@@ -79,7 +79,8 @@ inline std::uint32_t fieldDegree(const Pattern& p) { return specialization(p).fi
 /// divides by fits the stratum point's one-division path (shaders/oas/oas_strata.glsl).
 inline std::uint32_t smallN(const Pattern& p) { return specialization(p).smallN; }
 /// OAS_STATIC_INDEX_BITS for the pattern: for Halton the bits of N - 1, which bound its digit
-/// loops (shaders/oas/oas_baselines.glsl); 24, any N, for the others.
+/// loops (shaders/oas/oas_baselines.glsl); for faure K, its index's base-q digits (oas_faure.glsl);
+/// 24, any N, for the others.
 inline std::uint32_t indexBits(const Pattern& p) { return specialization(p).indexBits; }
 /// What a GPU pipeline is specialized on (construction, offset, field kind, field degree, small
 /// N, index bits): two patterns with the same key run on the same pipeline, the rest of the

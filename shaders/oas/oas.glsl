@@ -76,7 +76,8 @@
 //         the grid's reciprocals once per (pixel, pass, dimension); index < N within the pass,
 //         passSeed = oas_pass_seed(pixelSeed, pass).
 //         The two dimensions of a pair share one cell (oas_pair_cell) per sample.
-//   A progressive sequence (oas_faure.glsl), standalone for now: not yet an OasPattern.
+//   A progressive sequence (oas_faure.glsl): the sampler OAS_FAURE (oas_sample and oas_draw take
+//   it as any other pattern), and its parts for a renderer that makes its own sequences.
 //   OasFaure oas_faure_make(OasField f, uint digits)        base q = f.q, indices below q^digits
 //   uint     oas_faure_key(uint pixelSeed, uint block, uint element)
 //   float    oas_faure_value(OasFaure fa, uint element, uint index, uint key)
@@ -84,7 +85,8 @@
 //         (< q, one field element per dimension, s <= q) of sample `index`. Every aligned block
 //         of q^m consecutive samples is a (0,m,s)-net, so any prefix of lambda q^t samples is an
 //         OA of strength t; its leading digit is Bush's OA. A shader whose sequences all have K
-//         digits defines OAS_STATIC_FAURE_DIGITS to K for speed (every value NaN for another K).
+//         digits defines OAS_STATIC_FAURE_DIGITS to K for speed (every value NaN for another K);
+//         one specialized on a faure OasPattern has K already (OAS_STATIC_INDEX_BITS).
 //
 // EXAMPLE (one invocation per pixel, looping over all of its samples; the library adds no loop
 // iterations, so the loops may be as long as the renderer's own budget allows)

@@ -47,9 +47,13 @@ const uint OAS_FAURE_MAX_DIGITS = 12u;
 // and the steps past K (66 of the 78 field operations at K = 2) compile away; unspecialized, each
 // is guarded by K at run time, which lavapipe pays for whatever K is, since it runs both sides of
 // a branch. A sequence with another K gets NaN for every value (oas_faure_value), never the
-// values of a K it is not.
-#ifdef OAS_STATIC_FAURE_DIGITS
+// values of a K it is not. A shader specialized on a faure pattern (OasPattern, oas_specialization)
+// gets K that way without defining it: a faure pattern's OAS_STATIC_INDEX_BITS is its K, the
+// base-q digits of an index (below 24; 24 and more take any K).
+#if defined(OAS_STATIC_FAURE_DIGITS)
 #define OAS_FAURE_K(fa) OAS_STATIC_FAURE_DIGITS
+#elif defined(OAS_STATIC_INDEX_BITS)
+#define OAS_FAURE_K(fa) (OAS_STATIC_INDEX_BITS < 24u ? OAS_STATIC_INDEX_BITS : (fa).digits)
 #else
 #define OAS_FAURE_K(fa) ((fa).digits)
 #endif

@@ -74,7 +74,7 @@ struct OasPattern {
 /// Whether `pat` is a pattern this shader's specialization was made for: every OAS_STATIC_* the
 /// shader defines equals the pattern's own value (oas_specialization in oas_pattern.h fills them;
 /// a shader with OAS_STATIC_SMALL_N = 0 takes any N, its stratum points divide the long way; one
-/// with OAS_STATIC_INDEX_BITS = B takes every N <= 2^B).
+/// with OAS_STATIC_INDEX_BITS = B takes every N <= 2^B, or for faure the sequences of K = B digits).
 /// Always true in a shader without OAS_STATIC_*. Lanes that share a pattern agree, so a shader
 /// may branch on it (to paint an error colour, say).
 bool oas_specialization_matches(OasPattern pat)
@@ -95,8 +95,9 @@ bool oas_specialization_matches(OasPattern pat)
 #ifdef OAS_STATIC_SMALL_N
     b = b && (OAS_STATIC_SMALL_N == 0u || pat.N <= 65536u);
 #endif
-#ifdef OAS_STATIC_INDEX_BITS  // every index < N fits the bits (24 or more: any N the library takes)
-    b = b && (OAS_STATIC_INDEX_BITS >= 24u || ((pat.N - 1u) >> OAS_STATIC_INDEX_BITS) == 0u);
+#ifdef OAS_STATIC_INDEX_BITS  // every index < N fits the bits (24 or more: any N); faure: its K digits
+    b = b && (OAS_STATIC_INDEX_BITS >= 24u ||
+              (pat.construction == OAS_FAURE ? pat.aux == OAS_STATIC_INDEX_BITS : ((pat.N - 1u) >> OAS_STATIC_INDEX_BITS) == 0u));
 #endif
     return b;
 }
