@@ -243,7 +243,9 @@ TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
         const std::uint32_t code = codes.at(r.sampler);
         const bool oa = code < 16, faure = code == 24;
         EXPECT_EQ(w.construction, code);
-        if (!faure) EXPECT_EQ(w.N, r.spp);
+        if (!faure) {
+            EXPECT_EQ(w.N, r.spp);
+        }
         EXPECT_EQ(w.offset, oa ? offsets.at(r.offset) : 0u);
         const std::uint32_t s = w.s, t = w.strength, N = w.N;
         if (faure) {
@@ -262,7 +264,9 @@ TEST(GoldenSpec, EveryWordFollowsFromItsDefinition)
             EXPECT_EQ(w.aux2, 0u);
         }
         if (oa || faure) {
-            if (oa) EXPECT_EQ(w.aux2, N / s) << "aux2 = N / s for the OAs";
+            if (oa) {
+                EXPECT_EQ(w.aux2, N / s) << "aux2 = N / s for the OAs";
+            }
             std::uint64_t st = 1;
             for (std::uint32_t i = 0; i < t; ++i) st *= s;
             const std::uint32_t q = code == 3 ? 2 * s : s;  // Bose-Bush: GF(2q)

@@ -188,6 +188,37 @@ TEST(BaselineColumns, EveryBaselineEqualsOasSampleBitForBit)
     EXPECT_GT(compared, 100000u);
 }
 
+TEST(BaselineColumns, FaureRunsEqualOasSampleForEveryK)
+{
+    // Faure's run loops: one per K = 1 .. 6 over prime fields (K a constant there), the library's
+    // per-value code for longer sequences and extension fields. Bases 2 (K up to 12), 3, 5 and
+    // 11, and GF(2^2), GF(3^2); every K each base allows up to 2^14 samples (base 2: its longest,
+    // 2^12); runs from a pass's start, its middle and up to its end, and in the next pass; two
+    // blocks of dimensions.
+    std::size_t compared = 0;
+    for (std::uint32_t d : {2u, 3u, 4u, 5u, 9u, 11u})
+        for (std::uint32_t spp = 2; spp <= (d == 2 ? 4096u : (1u << 14)); spp *= d == 2 ? 2 : d)
+            for (oas::CpuIsa isa : {oas::CpuIsa::Baseline, oas::CpuIsa::Avx2}) {
+                oas::PatternRequest r;
+                r.sampler = "faure";
+                r.spp = spp;
+                r.strength = d;
+                const oas::Pattern p = oas::makePattern(r);
+                const oas::BaselineColumns columns(p, isa);
+                std::vector<float> out(300);
+                for (std::uint32_t firstIndex : {0u, p.N / 2, p.N - std::min(p.N, 300u), p.N + 1})
+                    for (std::uint32_t dim : {0u, 1u, d - 1, d, 2 * d + 1}) {
+                        const std::uint32_t count = std::min(columns.samplesLeftInPass(firstIndex), 300u);
+                        columns.values(0x5eedu, dim, firstIndex, count, out.data());
+                        for (std::uint32_t k = 0; k < count; ++k, ++compared)
+                            ASSERT_EQ(out[k], oas::sample(p, 0x5eedu, firstIndex + k, dim))
+                                << oas::describe(p) << ", sample " << firstIndex + k << ", dim " << dim << ", "
+                                << (isa == oas::CpuIsa::Avx2 ? "AVX2" : "baseline") << " loops";
+                    }
+            }
+    EXPECT_GT(compared, 100000u);
+}
+
 TEST(BaselineColumns, PairValuesAreEachDimensionsValues)
 {
     // The padded 2D baselines' two dimensions of a pair at once (one shared cell per sample)

@@ -1,8 +1,10 @@
 // BaselineColumns: the baselines' per-run state made once, then one loop per dimension.
 #include "oas/baseline_columns.hpp"
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <type_traits>
+#include <utility>
 
 // The library's fixed-trip loops unrolled, as on the GPU: Sobol-Burley's direction numbers then
 // fold to constants, and the Sobol and Halton digit loops lose their loop overhead.
@@ -64,11 +66,27 @@ constexpr uint kMaxRun = 256;
 #define OAS_LOOP_NAME(name) name##Avx2
 #include "oas/baseline_columns_loops.inc"
 #else
+template <uint Digits>
+constexpr auto runFaureAvx2 = runFaureBaseline<Digits>;
 template <uint Construction>
 constexpr auto runValuesAvx2 = runValuesBaseline<Construction>;
 template <uint Construction>
 constexpr auto runPairsAvx2 = runPairsBaseline<Construction>;
 #endif
+
+/// The largest K with a loop of its own over a prime field (runFaure): base 11 reaches 14641
+/// samples, base 2 64. Other Faure patterns take oas::sample per value (generate_cpu.cpp), out
+/// of this file: here OAS_UNROLL unrolls the twin's digit loops, which with K known only at run
+/// time multiplied this file's compile time by seven (240 s).
+constexpr uint kFaureUnrolledDigits = 6;
+using FaureLoop = void (*)(glsl::OasPattern, uint, uint, uint, uint, float*);
+/// runFaure<K> for K = 1 .. kFaureUnrolledDigits; [isa][K - 1].
+template <std::size_t... K>
+constexpr std::array<std::array<FaureLoop, sizeof...(K)>, 2> faureLoops(std::index_sequence<K...>)
+{
+    return {{{runFaureBaseline<K + 1>...}, {runFaureAvx2<K + 1>...}}};
+}
+constexpr auto kFaureLoops = faureLoops(std::make_index_sequence<kFaureUnrolledDigits>());
 
 }  // namespace
 
@@ -131,8 +149,12 @@ void BaselineColumns::values(std::uint32_t pixelSeed, std::uint32_t dim, std::ui
     case glsl::OAS_HALTON: OAS_RUN_VALUES(glsl::OAS_HALTON);
     case glsl::OAS_SOBOL: OAS_RUN_VALUES(glsl::OAS_SOBOL);
     case glsl::OAS_SOBOL_OWEN: OAS_RUN_VALUES(glsl::OAS_SOBOL_OWEN);
-    default:  // every baseline has its case above; the library's per-value code otherwise
-        for (uint k = 0; k < count; ++k) out[k] = glsl::oas_baseline_dim(pat, passSeed, first + k, dim);
+    case glsl::OAS_FAURE:
+        if (pat.fieldK == 1 && pat.aux >= 1 && pat.aux <= kFaureUnrolledDigits)
+            return kFaureLoops[avx2 ? 1 : 0][pat.aux - 1](pat, passSeed, dim, first, count, out);
+        [[fallthrough]];
+    default:  // the library's per-value code (oas_sample, compiled without this file's unrolling)
+        for (uint k = 0; k < count; ++k) out[k] = sample(pattern_, pixelSeed, firstIndex + k, dim);
     }
 #undef OAS_RUN_VALUES
 }

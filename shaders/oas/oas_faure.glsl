@@ -104,9 +104,11 @@ OasFaureDigits oas_faure_digits(OasFaure fa, uint element, uint index)
     // Pass r leaves c.y[r] final: c_j += a c_{j+1} from the top down to j = r. Steps with
     // j + 1 >= K add a zero digit times a, so only those with r < j < K run, in this order.
 #if defined(OAS_RUNTIME_BRANCHES)
-    // The C++ twin, which branches for real: loops bounded by the pattern's K.
-    for (uint r = 0u; r + 1u < fa.digits; ++r) {
-        for (uint j = fa.digits - 1u; j > r; --j) c.y[j - 1u] = oas_gf_mul_add(fa.field, c.y[j], element, c.y[j - 1u]);
+    // The C++ twin, which branches for real: loops bounded by the pattern's K. OAS_UNROLL lets a
+    // twin loop that fixes K (host/oas/baseline_columns_loops.inc) unroll both into straight-line
+    // code, which g++ then vectorizes across samples; elsewhere the twin defines it as nothing.
+    OAS_UNROLL for (uint r = 0u; r + 1u < fa.digits; ++r) {
+        OAS_UNROLL for (uint j = fa.digits - 1u; j > r; --j) c.y[j - 1u] = oas_gf_mul_add(fa.field, c.y[j], element, c.y[j - 1u]);
     }
 #else
     // On the GPU one flat loop of fixed length over every (r, j) step, each guarded: a pattern's
