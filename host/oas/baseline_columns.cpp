@@ -66,25 +66,26 @@ constexpr uint kMaxRun = 256;
 #define OAS_LOOP_NAME(name) name##Avx2
 #include "oas/baseline_columns_loops.inc"
 #else
-template <uint Digits>
-constexpr auto runFaureAvx2 = runFaureBaseline<Digits>;
+template <uint Digits, bool Binary>
+constexpr auto runFaureAvx2 = runFaureBaseline<Digits, Binary>;
 template <uint Construction>
 constexpr auto runValuesAvx2 = runValuesBaseline<Construction>;
 template <uint Construction>
 constexpr auto runPairsAvx2 = runPairsBaseline<Construction>;
 #endif
 
-/// The largest K with a loop of its own over a prime field (runFaure): base 11 reaches 14641
-/// samples, base 2 64. Other Faure patterns take oas::sample per value (generate_cpu.cpp), out
-/// of this file: here OAS_UNROLL unrolls the twin's digit loops, which with K known only at run
-/// time multiplied this file's compile time by seven (240 s).
+/// The largest K with a loop of its own (runFaure): base 11 reaches 14641 samples, base 2 64.
+/// Other Faure patterns (longer sequences, odd extension fields) take oas::sample per value
+/// (generate_cpu.cpp), out of this file: here OAS_UNROLL unrolls the twin's digit loops, which
+/// with K known only at run time multiplied this file's compile time by seven (240 s).
 constexpr uint kFaureUnrolledDigits = 6;
 using FaureLoop = void (*)(glsl::OasPattern, uint, uint, uint, uint, float*);
-/// runFaure<K> for K = 1 .. kFaureUnrolledDigits; [isa][K - 1].
+/// runFaure<K, binary> for K = 1 .. kFaureUnrolledDigits; [isa][binary][K - 1].
 template <std::size_t... K>
-constexpr std::array<std::array<FaureLoop, sizeof...(K)>, 2> faureLoops(std::index_sequence<K...>)
+constexpr std::array<std::array<std::array<FaureLoop, sizeof...(K)>, 2>, 2> faureLoops(std::index_sequence<K...>)
 {
-    return {{{runFaureBaseline<K + 1>...}, {runFaureAvx2<K + 1>...}}};
+    return {{{{{runFaureBaseline<K + 1, false>...}, {runFaureBaseline<K + 1, true>...}}},
+             {{{runFaureAvx2<K + 1, false>...}, {runFaureAvx2<K + 1, true>...}}}}};
 }
 constexpr auto kFaureLoops = faureLoops(std::make_index_sequence<kFaureUnrolledDigits>());
 
@@ -150,8 +151,8 @@ void BaselineColumns::values(std::uint32_t pixelSeed, std::uint32_t dim, std::ui
     case glsl::OAS_SOBOL: OAS_RUN_VALUES(glsl::OAS_SOBOL);
     case glsl::OAS_SOBOL_OWEN: OAS_RUN_VALUES(glsl::OAS_SOBOL_OWEN);
     case glsl::OAS_FAURE:
-        if (pat.fieldK == 1 && pat.aux >= 1 && pat.aux <= kFaureUnrolledDigits)
-            return kFaureLoops[avx2 ? 1 : 0][pat.aux - 1](pat, passSeed, dim, first, count, out);
+        if ((pat.fieldK == 1 || pat.fieldP == 2) && pat.aux >= 1 && pat.aux <= kFaureUnrolledDigits)
+            return kFaureLoops[avx2 ? 1 : 0][pat.fieldK == 1 ? 0 : 1][pat.aux - 1](pat, passSeed, dim, first, count, out);
         [[fallthrough]];
     default:  // the library's per-value code (oas_sample, compiled without this file's unrolling)
         for (uint k = 0; k < count; ++k) out[k] = sample(pattern_, pixelSeed, firstIndex + k, dim);
