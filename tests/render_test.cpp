@@ -1004,6 +1004,43 @@ TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
 
 // The CLI on the Vulkan device (lavapipe unless chosen): the same crop property on the GPU. The
 // fixture skips visibly without a device.
+/// --checkpoints: one render writes the image after every q^m samples of a faure sequence (q = 11
+/// here: 11 and 121 of 300), each the sums of the shard render --samples 0:q^m word for word,
+/// and the final image is that of the render without checkpoints.
+void checkCheckpoints(const char* device)
+{
+    const auto dir = freshDir(std::string("oas_render_checkpoints_") + device);
+    const std::string common = std::string(OAS_SCENES_DIR) + "/blue_spheres9d.json --sampler faure --spp 300 --resolution 12x9 " +
+                               "--device " + device + " -o '";
+    auto words = [&](const std::string& name, const std::string& more) {
+        const std::string out = (dir / name).string();
+        const auto [status, err] = runRenderStderr(common + out + "' " + more);
+        EXPECT_EQ(status, 0) << err;
+        return render::readRenderFile(out).sums.words;
+    };
+    const auto full = words("full.exr", "--checkpoints");
+    EXPECT_TRUE(full == words("plain.exr", "")) << "checkpoints changed the final image";
+    for (std::uint32_t c : {11u, 121u}) {
+        const auto checkpoint = render::readRenderFile((dir / ("full.spp" + std::to_string(c) + ".exr")).string());
+        ASSERT_EQ(checkpoint.ranges.size(), 1u);
+        EXPECT_EQ(checkpoint.ranges[0].end, c);
+        EXPECT_TRUE(checkpoint.sums.words == words("shard" + std::to_string(c) + ".exr", "--samples 0:" + std::to_string(c)))
+            << "checkpoint " << c;
+    }
+    EXPECT_FALSE(std::filesystem::exists(dir / "full.spp1331.exr")) << "no checkpoint past the render's samples";
+    std::filesystem::remove_all(dir);
+}
+
+TEST(RenderCli, CheckpointsAreTheShardsOfTheirSamplesOnTheCpu)
+{
+    checkCheckpoints("cpu");
+}
+
+TEST_F(RenderGpu, CliCheckpointsAreTheShardsOfTheirSamples)
+{
+    checkCheckpoints("gpu");
+}
+
 TEST_F(RenderGpu, CliCropWindowHoldsTheWholeFramesPixelsBitForBit)
 {
     checkCropWindow("gpu");

@@ -115,7 +115,7 @@ int main(int argc, char** argv)
     CLI::App app{"oas-render: path-trace a scene with orthogonal-array sampling"};
     std::string scenePath, sampler, output, device = "gpu", offset, samples;
     std::uint32_t spp = 0, seed = 0, strength = 0;
-    bool explain = false;
+    bool explain = false, checkpoints = false;
     std::string resolution;
     std::vector<std::string> crop;
     unsigned threads = 0;
@@ -140,6 +140,10 @@ int main(int argc, char** argv)
         app.add_option("--threads", threads, "CPU tracer workers (--device cpu), 0 .. 1024; 0: all cores")
             ->check(CLI::Range(0u, kMaxThreads));
     app.add_flag("--explain", explain, "print the dimension plan and the sampler choice, then exit");
+    app.add_flag("--checkpoints", checkpoints,
+                 "also write the image at every count of samples that completes a net or array, as OUTPUT.spp<count>.exr "
+                 "(faure: q, q^2, q^3 ...; the other samplers: every pass of N): one render gives an error-vs-samples "
+                 "curve");
     return oas::runCli(
         "oas-render", app, argc, argv,
         [&] {
@@ -213,24 +217,62 @@ int main(int argc, char** argv)
             } catch (const std::bad_alloc&) {
                 throw outOfMemory("the accumulation buffer");
             }
+            auto attributes = oas::render::renderAttributes(scene, data, plan, pattern, seed);
+            attributes["oas.device"] = where;
+            attributes["oas.pipelineBuildSeconds"] = gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0";
+            attributes["oas.writer"] = "oas-render";
+            if (!crop.empty()) {
+                attributes["oas.resolution"] = std::to_string(window.width()) + "x" + std::to_string(window.height());
+                attributes["oas.cropWindow"] = oas::render::formatCropWindow(window, scene.width, scene.height);
+            }
+            // The image so far (the exact sums make any moment's readable); `last` hands the CPU's over.
+            const auto currentSums = [&](bool last) {
+                try {
+                    oas::render::Accumulation sums = gpu ? gpu->accumulation() : last ? std::move(cpuSums) : cpuSums;
+                    if (!crop.empty()) sums = sums.window(window.x0, window.y0, window.width(), window.height());
+                    return sums;
+                } catch (const std::bad_alloc&) {
+                    throw outOfMemory("the sums read back from the device");
+                }
+            };
+            // Where the render stops to write a checkpoint, then its end: the segments are passes
+            // over the same sample indices as one run, and the sums are exact, so the final image
+            // is the same with checkpoints or without.
+            std::vector<std::uint32_t> stops;
+            if (checkpoints) {
+                const bool faure = pattern.construction == OAS_FAURE;
+                for (std::uint64_t c = faure ? pattern.s : pattern.N; c < range.end; c = faure ? c * pattern.s : c + pattern.N)
+                    if (c > range.first) stops.push_back(std::uint32_t(c));
+            }
+            stops.push_back(range.end);
             Progress progress(range.size());
             const auto start = std::chrono::steady_clock::now();
-            const std::uint32_t done = oas::render::forEachBatch(
-                window.width(), window.height(), range.end,
-                gpu ? oas::render::samplesPerBatch(plan, data) : oas::render::kCpuSamplesPerBatch, seed,
-                [&](oas::render::SampleBatch batch) {  // the window's tiles, placed in the frame
-                    batch.x0 += window.x0;
-                    batch.y0 += window.y0;
-                    if (gpu)
-                        gpu->trace(batch);
-                    else
-                        oas::render::traceCpu(data, plan, pattern, batch, cpuSums, threads);
-                },
-                [&](std::uint32_t samplesDone) {  // stop signals are honoured between passes
-                    progress.update(samplesDone, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-                    return gStopSignal == 0;
-                },
-                range.first);
+            const auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+            std::uint32_t done = 0;
+            for (const std::uint32_t stop : stops) {
+                const std::uint32_t from = range.first + done;
+                done += oas::render::forEachBatch(
+                    window.width(), window.height(), stop,
+                    gpu ? oas::render::samplesPerBatch(plan, data) : oas::render::kCpuSamplesPerBatch, seed,
+                    [&](oas::render::SampleBatch batch) {  // the window's tiles, placed in the frame
+                        batch.x0 += window.x0;
+                        batch.y0 += window.y0;
+                        if (gpu)
+                            gpu->trace(batch);
+                        else
+                            oas::render::traceCpu(data, plan, pattern, batch, cpuSums, threads);
+                    },
+                    [&](std::uint32_t samplesDone) {  // stop signals are honoured between passes
+                        progress.update(from - range.first + samplesDone, elapsed());
+                        return gStopSignal == 0;
+                    },
+                    from);
+                if (gStopSignal != 0 || stop == range.end) break;
+                const std::string path = output.substr(0, output.size() - 4) + ".spp" + std::to_string(stop) + ".exr";
+                attributes["oas.renderTimeSeconds"] = std::to_string(elapsed());
+                oas::render::writeRenderFile(path, currentSums(false), {{range.first, stop}}, attributes);
+                std::cerr << "checkpoint: wrote " << path << " (samples " << range.first << ":" << stop << ")\n";
+            }
             const int stopSignal = gStopSignal;
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             const oas::render::SampleRange finished{range.first, range.first + done};
@@ -241,22 +283,8 @@ int main(int argc, char** argv)
                     return 128 + stopSignal;
                 }
             }
-            oas::render::Accumulation sums;
-            try {
-                sums = gpu ? gpu->accumulation() : std::move(cpuSums);
-                if (!crop.empty()) sums = sums.window(window.x0, window.y0, window.width(), window.height());
-            } catch (const std::bad_alloc&) {
-                throw outOfMemory("the sums read back from the device");
-            }
-            auto attributes = oas::render::renderAttributes(scene, data, plan, pattern, seed);
+            const oas::render::Accumulation sums = currentSums(true);
             attributes["oas.renderTimeSeconds"] = std::to_string(seconds);
-            attributes["oas.device"] = where;
-            attributes["oas.pipelineBuildSeconds"] = gpu ? std::to_string(gpu->pipelineBuildSeconds()) : "0";
-            attributes["oas.writer"] = "oas-render";
-            if (!crop.empty()) {
-                attributes["oas.resolution"] = std::to_string(window.width()) + "x" + std::to_string(window.height());
-                attributes["oas.cropWindow"] = oas::render::formatCropWindow(window, scene.width, scene.height);
-            }
             oas::image::Image image;
             try {
                 image = oas::render::writeRenderFile(output, sums, {finished}, attributes);
