@@ -318,11 +318,7 @@ TEST(Faure, ThePatternIsTheSequenceInBlocksOfD)
     } cases[] = {{2, 100, 2, 128}, {3, 27, 3, 27}, {4, 40, 4, 64}, {7, 50, 7, 343}, {9, 81, 9, 81}, {10, 121, 11, 121}};
     const std::uint32_t seed = 0xc0ffeeu;
     for (const auto& c : cases) {
-        oas::PatternRequest r;
-        r.sampler = "faure";
-        r.spp = c.spp;
-        r.strength = c.d;
-        const oas::Pattern p = oas::makePattern(r);
+        const oas::Pattern p = oas::test::faurePattern(c.spp, c.d);
         SCOPED_TRACE(oas::describe(p));
         ASSERT_EQ(p.s, c.q);
         ASSERT_EQ(p.N, c.N);
@@ -363,13 +359,7 @@ TEST(Faure, ThePatternIsTheSequenceInBlocksOfD)
 // 100 = 9 x 11 + 1, 1000 = 8 x 121 + 32, 121 = 11^2; 5 < 11), and nothing for a sampler whose N is spp.
 TEST(Faure, ThePrefixGuaranteeNamesTheLargestWholeNets)
 {
-    oas::PatternRequest r;
-    r.sampler = "faure";
-    r.strength = 10;
-    auto guarantee = [&](std::uint32_t spp) {
-        r.spp = spp;
-        return oas::prefixGuarantee(oas::makePattern(r), spp);
-    };
+    auto guarantee = [](std::uint32_t spp) { return oas::prefixGuarantee(oas::test::faurePattern(spp, 10), spp); };
     EXPECT_NE(guarantee(100).find("the first 99 (9 x 11^1) are 9 (0,1,10)-nets"), std::string::npos) << guarantee(100);
     EXPECT_NE(guarantee(100).find("the 1 after them"), std::string::npos) << guarantee(100);
     EXPECT_NE(guarantee(1000).find("the first 968 (8 x 11^2) are 8 (0,2,10)-nets"), std::string::npos) << guarantee(1000);
@@ -377,6 +367,28 @@ TEST(Faure, ThePrefixGuaranteeNamesTheLargestWholeNets)
     EXPECT_EQ(guarantee(121).find("after them"), std::string::npos) << guarantee(121);
     EXPECT_NE(guarantee(5).find("no dimension is stratified yet"), std::string::npos) << guarantee(5);
     EXPECT_EQ(oas::prefixGuarantee(oas::makePattern({.sampler = "bose", .spp = 121}), 121), "");
+}
+
+// The chooser's refusal of a count no orthogonal array makes (the prime 103 at strength 2: CMJND's
+// 10^2 and Bose's 11^2 are the nearest) offers the progressive sampler with what its prefix
+// guarantees (10 dims: base 11, 103 = 9 x 11 + 4); a count the chooser makes needs no offer.
+TEST(Faure, TheChoosersRefusalOffersTheProgressiveSampler)
+{
+    oas::PatternRequest r;
+    r.sampler = "oa";
+    r.spp = 103;
+    r.dims = 10;
+    try {
+        oas::chooseOrthogonalArray(r);
+        FAIL() << "spp 103 has no orthogonal array of strength 2";
+    } catch (const oas::InvalidArgument& e) {
+        const std::string message = e.what();
+        EXPECT_NE(message.find("nearest valid spp: 100, 121"), std::string::npos) << message;
+        EXPECT_NE(message.find("--sampler faure"), std::string::npos) << message;
+        EXPECT_NE(message.find("the first 99 (9 x 11^1)"), std::string::npos) << message;
+    }
+    r.spp = 121;
+    EXPECT_NO_THROW(oas::chooseOrthogonalArray(r));
 }
 
 // Each value lies in its scrambled stratum of q^K exactly (as real numbers), is below 1, and the

@@ -136,11 +136,7 @@ TEST_F(GpuCpu, FaureInEveryKindOfBase)
         std::uint32_t d, spp;
     } cases[] = {{2, 100}, {3, 27}, {4, 40}, {7, 64}, {9, 81}, {10, 121}, {10, 1000}};
     for (const auto& c : cases) {
-        oas::PatternRequest req;
-        req.sampler = "faure";
-        req.spp = c.spp;
-        req.strength = c.d;
-        const oas::Pattern pattern = oas::makePattern(req);
+        const oas::Pattern pattern = oas::test::faurePattern(c.spp, c.d);
         oas::SampleRequest r;
         r.width = 3;
         r.height = 2;

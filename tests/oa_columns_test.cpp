@@ -199,11 +199,7 @@ TEST(BaselineColumns, FaureRunsEqualOasSampleForEveryK)
     for (std::uint32_t d : {2u, 3u, 4u, 5u, 9u, 11u})
         for (std::uint32_t spp = 2; spp <= (d == 2 ? 4096u : (1u << 14)); spp *= d == 2 ? 2 : d)
             for (oas::CpuIsa isa : {oas::CpuIsa::Baseline, oas::CpuIsa::Avx2}) {
-                oas::PatternRequest r;
-                r.sampler = "faure";
-                r.spp = spp;
-                r.strength = d;
-                const oas::Pattern p = oas::makePattern(r);
+                const oas::Pattern p = oas::test::faurePattern(spp, d);
                 const oas::BaselineColumns columns(p, isa);
                 std::vector<float> out(300);
                 for (std::uint32_t firstIndex : {0u, p.N / 2, p.N - std::min(p.N, 300u), p.N + 1})

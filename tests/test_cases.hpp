@@ -13,6 +13,17 @@ struct SamplerCase {
     std::uint32_t spp, strength;
 };
 
+/// The progressive sampler for spp samples with d dimensions a block (its base: the smallest
+/// prime power >= d).
+inline Pattern faurePattern(std::uint32_t spp, std::uint32_t d)
+{
+    PatternRequest r;
+    r.sampler = "faure";
+    r.spp = spp;
+    r.strength = d;
+    return makePattern(r);
+}
+
 /// The numerically hardest patterns: the largest fields and N, GF(2^k) and GF(3^k), s = 2 and 3.
 inline std::vector<SamplerCase> hardCases()
 {

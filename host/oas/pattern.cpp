@@ -268,6 +268,18 @@ Pattern makePattern(const PatternRequest& request)
                           (near.empty() ? "; nearest valid spp: none" : " (or allow rounding up)"));
 }
 
+namespace {
+/// For a count no orthogonal array makes: the progressive sampler's offer, "; or the progressive
+/// sampler faure takes any count: <what its prefix guarantees>", or "" where it cannot make spp.
+std::string progressiveAlternative(const PatternRequest& request)
+{
+    std::string why;
+    const Pattern p = exactPattern(OAS_FAURE, request.spp, defaultStrength(OAS_FAURE, request.dims), 0, why);
+    if (p.N == 0) return "";
+    return "; or the progressive sampler faure (--sampler faure) takes any count: " + prefixGuarantee(p, request.spp);
+}
+}  // namespace
+
 Choice chooseOrthogonalArray(const PatternRequest& request)
 {
     checkCommon(request);
@@ -304,7 +316,7 @@ Choice chooseOrthogonalArray(const PatternRequest& request)
         if (!request.roundUp || near.empty() || near.back() <= spp)
             throw InvalidArgument("no orthogonal array of strength " + std::to_string(t) + " has exactly spp " +
                                   std::to_string(spp) + "; nearest valid spp: " + countList(near) +
-                                  (near.empty() ? "" : " (or allow rounding up)"));
+                                  (near.empty() ? "" : " (or allow rounding up)") + progressiveAlternative(request));
         note = "spp " + std::to_string(spp) + " rounded up to " + std::to_string(near.back()) + " as asked. ";
         spp = near.back();
         candidates = candidatesFor(spp);
