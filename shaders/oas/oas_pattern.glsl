@@ -97,7 +97,7 @@ bool oas_specialization_matches(OasPattern pat)
 #endif
 #ifdef OAS_STATIC_INDEX_BITS  // every index < N fits the bits (24 or more: any N); faure: its K digits
     b = b && (OAS_STATIC_INDEX_BITS >= 24u ||
-              (pat.construction == OAS_FAURE ? pat.aux == OAS_STATIC_INDEX_BITS : ((pat.N - 1u) >> OAS_STATIC_INDEX_BITS) == 0u));
+              (OAS_CONSTRUCTION(pat) == OAS_FAURE ? pat.aux == OAS_STATIC_INDEX_BITS : ((pat.N - 1u) >> OAS_STATIC_INDEX_BITS) == 0u));
 #endif
     return b;
 }
