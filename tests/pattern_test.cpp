@@ -166,12 +166,14 @@ static_assert(oas::glsl::OAS_BOSE == OAS_BOSE && oas::glsl::OAS_BUSH == OAS_BUSH
               oas::glsl::OAS_RANDOM == OAS_RANDOM && oas::glsl::OAS_JITTERED_2D == OAS_JITTERED_2D &&
               oas::glsl::OAS_CMJ_2D == OAS_CMJ_2D && oas::glsl::OAS_ZERO_TWO == OAS_ZERO_TWO &&
               oas::glsl::OAS_HALTON == OAS_HALTON && oas::glsl::OAS_SOBOL == OAS_SOBOL &&
-                  oas::glsl::OAS_SOBOL_OWEN == OAS_SOBOL_OWEN && oas::glsl::OAS_SOBOL_BURLEY == OAS_SOBOL_BURLEY);
+                  oas::glsl::OAS_SOBOL_OWEN == OAS_SOBOL_OWEN && oas::glsl::OAS_SOBOL_BURLEY == OAS_SOBOL_BURLEY &&
+                  oas::glsl::OAS_FAURE == OAS_FAURE);
 static_assert(oas::glsl::OAS_OFFSET_CENTERED == OAS_OFFSET_CENTERED && oas::glsl::OAS_OFFSET_J == OAS_OFFSET_J &&
               oas::glsl::OAS_OFFSET_MJ == OAS_OFFSET_MJ && oas::glsl::OAS_OFFSET_CMJ == OAS_OFFSET_CMJ);
 static_assert(oas::glsl::OAS_HALTON_BLOCK == OAS_HALTON_BLOCK_DIMS, "shaders/oas/oas_baselines.glsl's Halton block");
 static_assert(oas::glsl::OAS_SOBOL_BLOCK == OAS_SOBOL_BLOCK_DIMS, "shaders/oas/oas_baselines.glsl's Sobol block");
 static_assert(oas::glsl::OAS_SOBOL_BURLEY_GROUP == OAS_SOBOL_BURLEY_GROUP_DIMS, "oas_baselines.glsl's Sobol-Burley group");
+static_assert(oas::glsl::OAS_FAURE_MAX_DIGITS == OAS_FAURE_MAX_DIGITS, "shaders/oas/oas_faure.glsl's most index digits");
 
 TEST(PatternConstants, BaselinesUseTheHeadersBlockSizes)
 {

@@ -566,12 +566,11 @@ size_t oas_valid_counts(uint32_t construction, uint32_t strength, uint32_t lo, u
         for (q = 2; (n = oasp_pow_capped(q, strength, OAS_MAX_SAMPLES)) != 0; ++q)
             if (!oasp_count(&c, n)) break;
         return c.count;
-    case OAS_FAURE: /* any spp up to the longest sequence in the block's base */
+    case OAS_FAURE: /* any spp up to the longest sequence in the block's base, as the baselines below */
         n = oasp_faure_longest(oasp_faure_base(strength));
         if (c.hi > n) c.hi = n;
         if (c.lo > c.hi) return 0;
-        for (n = c.lo; n - c.lo < c.capacity && n <= c.hi; ++n) c.out[n - c.lo] = n;
-        return (size_t)(c.hi - c.lo) + 1;
+        /* fall through */
     default: /* the baselines take any N */
         for (n = c.lo; n - c.lo < c.capacity && n <= c.hi; ++n) c.out[n - c.lo] = n;
         return (size_t)(c.hi - c.lo) + 1;
