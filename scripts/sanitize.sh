@@ -10,7 +10,7 @@ cd "$(dirname "$0")/.."
 flags="-O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
 [[ -f build-asan/build.ninja ]] || cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug \
   -DCMAKE_CXX_FLAGS_DEBUG="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined" \
-  -DOAS_BUILD_BENCHMARKS=OFF -DOAS_BUILD_STUDY_APP=OFF
+  -DOAS_BUILD_BENCHMARKS=OFF -DOAS_BUILD_STUDY_APP=OFF -DOAS_LOOP_TU_OPTIONS=-O0
 cmake --build build-asan -j "$(nproc)"
 # Tests that dispatch on the device (kept in one place: keep it in step with tests/).
 gpu_tests='^(VkSmoke|GpuCpu|GoldenGpu|RenderGpu|StudyGpu|ViewGpu|LoopFree|Specialization|Consumer|MergeGpu|Cluster|SceneCostsGpu|SmallptGpu|FaureGpu|RenderWordsGpu)\.|^CliTest\.Gpu'
