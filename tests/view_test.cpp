@@ -257,6 +257,31 @@ TEST_F(ViewGpu, SamplerKeyMovesToTheNextSamplerThatFits)
     EXPECT_TRUE(decode(dir / "shot.png").rgb == decode(dir / "ref.png").rgb) << v.output;
 }
 
+TEST_F(ViewGpu, FaureStopsAtEveryCheckpointAndEndsAtOasRendersImage)
+{
+    // cornell7d draws 8 sample dimensions, so faure's base is 8 (the smallest prime power >= 8)
+    // and at 100 spp (N = 8^3) its checkpoints are 8 = 8^1 and 64 = 8^2: the viewer must show
+    // each (it prints a line when it does), in order, and none else; and the segments between
+    // them must add up to oas-render's 100-spp image, byte for byte.
+    const fs::path dir = workDir("faure");
+    const Result v = view("'" + kScene + "' --sampler faure --spp 100 --seed 5 --zoom 1 --screenshot shot.png", dir, 210);
+    if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
+    const std::size_t first = v.output.find("checkpoint 8 spp = 8^1: each block's first 8 samples are a (0,1,8)-net");
+    const std::size_t second = v.output.find("checkpoint 64 spp = 8^2: each block's first 64 samples are a (0,2,8)-net");
+    EXPECT_NE(first, std::string::npos) << v.output;
+    EXPECT_NE(second, std::string::npos) << v.output;
+    EXPECT_LT(first, second) << v.output;
+    std::size_t lines = 0;
+    for (std::size_t at = v.output.find("oas-view: checkpoint"); at != std::string::npos; at = v.output.find("oas-view: checkpoint", at + 1))
+        ++lines;
+    EXPECT_EQ(lines, 2u) << v.output;
+    const Result r = run(renderCommand("'" + kScene + "' --sampler faure --spp 100 --seed 5 -o ref.exr"), dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const Picture shot = decode(dir / "shot.png"), ref = decode(dir / "ref.png");
+    ASSERT_GT(shot.width, 0) << v.output;
+    EXPECT_TRUE(shot.rgb == ref.rgb) << v.output;
+}
+
 TEST_F(ViewGpu, PointsModeDrawsOasSamplesPointsAsDiscsInEveryStratumOnce)
 {
     // Bose, 121 points, 4 dims, pair (0, 1): a disc is centred on each of the points oas-samples

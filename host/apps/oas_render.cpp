@@ -28,6 +28,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "apps/checkpoints.hpp"
 #include "apps/cli_main.hpp"
 #include "image/image.hpp"
 #include "oas/pattern.hpp"
@@ -239,11 +240,7 @@ int main(int argc, char** argv)
             // over the same sample indices as one run, and the sums are exact, so the final image
             // is the same with checkpoints or without.
             std::vector<std::uint32_t> stops;
-            if (checkpoints) {
-                const bool faure = pattern.construction == OAS_FAURE;
-                for (std::uint64_t c = faure ? pattern.s : pattern.N; c < range.end; c = faure ? c * pattern.s : c + pattern.N)
-                    if (c > range.first) stops.push_back(std::uint32_t(c));
-            }
+            if (checkpoints) stops = oas::apps::checkpointCounts(pattern, range.first, range.end);
             stops.push_back(range.end);
             Progress progress(range.size());
             const auto start = std::chrono::steady_clock::now();

@@ -1,8 +1,11 @@
 #include "view/render_mode.hpp"
 
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
+#include "apps/checkpoints.hpp"
 #include "image/metrics.hpp"
 #include "render/render_file.hpp"
 #include "render/scene_pattern.hpp"
@@ -149,9 +152,14 @@ const Frame& RenderMode::frame(Viewer& v)
         cursor_.reset();
     }
     if (!cursor_) {
-        cursor_.emplace(scene_.width, scene_.height, scene_.sampler.spp, render::samplesPerBatch(plan_, data_), o_.seed, tile_);
+        checkpoints_ = pattern_.construction == OAS_FAURE ? apps::checkpointCounts(pattern_, 0, scene_.sampler.spp)
+                                                          : std::vector<std::uint32_t>{};
+        checkpointShown_ = 0;
+        startSegment(0);
         renderStart_ = Clock::now();
         traceSeconds_ = 0;
+    } else if (cursor_->done() && segmentEnd_ < scene_.sampler.spp) {
+        startSegment(segmentEnd_);  // the last frame showed the checkpoint at segmentEnd_
     }
     const auto frameStart = Clock::now();
     while (!cursor_->done() && (secondsSince(frameStart) < 0.04)) {
@@ -172,7 +180,7 @@ const Frame& RenderMode::frame(Viewer& v)
             passSlowest_ = 0;
         }
     }
-    const std::uint32_t done = cursor_->samplesDone();
+    const std::uint32_t done = samplesDone();
     if (done != samplesShown_ || shown_.width == 0 || falseColour_ != shownFalseColour_) {
         // Completed passes only, so every pixel of the shown image has the same spp.
         shownSums_ = tracer_->accumulation();
@@ -186,6 +194,14 @@ const Frame& RenderMode::frame(Viewer& v)
         samplesShown_ = done;
         shownFalseColour_ = falseColour_;
         if (reference_ && done) relMse_ = image::compare(image_, *reference_).relMse;
+        if (done != checkpointShown_ && std::find(checkpoints_.begin(), checkpoints_.end(), done) != checkpoints_.end()) {
+            checkpointShown_ = done;
+            std::uint32_t m = 0;
+            for (std::uint64_t c = 1; c < done; c *= pattern_.s) ++m;
+            std::printf("oas-view: checkpoint %u spp = %u^%u: each block's first %u samples are a (0,%u,%u)-net\n", done,
+                        pattern_.s, m, done, m, pattern_.blockDims);
+            std::fflush(stdout);
+        }
     }
     const double elapsed = secondsSince(renderStart_);
     std::ostringstream t;
@@ -198,9 +214,24 @@ const Frame& RenderMode::frame(Viewer& v)
         t.precision(3);
         t << std::scientific << ", relMSE " << relMse_;
     }
+    if (checkpointShown_) t << ", checkpoint " << checkpointShown_ << " (a net)";
     if (falseColour_) t << ", false-colour error";
     status_ = t.str();
     return shown_;
+}
+
+void RenderMode::startSegment(std::uint32_t first)
+{
+    segmentFirst_ = first;
+    segmentEnd_ = scene_.sampler.spp;
+    for (const std::uint32_t c : checkpoints_)
+        if (c > first) {
+            segmentEnd_ = c;
+            break;
+        }
+    // The next segment's passes are oas-render's passes over [first, segmentEnd_): the sums of
+    // any split of the samples are the same (render/accumulation.hpp), so the image at spp is too.
+    cursor_.emplace(scene_.width, scene_.height, segmentEnd_, render::samplesPerBatch(plan_, data_), o_.seed, tile_, first);
 }
 
 void RenderMode::release()

@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "image/image.hpp"
 #include "oas/pattern.hpp"
@@ -40,7 +41,7 @@ public:
     /// One frame's work: builds the pipeline off-thread when the specialization changed, traces
     /// for about 40 ms, then returns the frame to show.
     const Frame& frame(Viewer& v);
-    bool complete() const { return cursor_ && cursor_->done() && samplesShown_ == scene_.sampler.spp; }
+    bool complete() const { return cursor_ && samplesDone() == scene_.sampler.spp && samplesShown_ == scene_.sampler.spp; }
     /// A pipeline is being built on another thread: do not present (one queue user at a time).
     bool busy() const { return building_.valid(); }
     /// Frees every Vulkan object before the viewer's context goes (a pipeline still building is
@@ -60,7 +61,14 @@ private:
     std::string choice_, status_, stem_, deviceName_;
     std::unique_ptr<render::GpuTracer> tracer_;
     std::future<std::unique_ptr<render::GpuTracer>> building_;
+    /// With `faure`, the render runs in segments that end at its checkpoints (apps/checkpoints.hpp:
+    /// every q^m spp), and a frame that completes one shows it: each (0,m,d)-net prefix is seen.
+    /// Other samplers run one segment, [0, spp).
     std::optional<render::BatchCursor> cursor_;
+    std::vector<std::uint32_t> checkpoints_;
+    std::uint32_t segmentFirst_ = 0, segmentEnd_ = 0, checkpointShown_ = 0;
+    void startSegment(std::uint32_t first);
+    std::uint32_t samplesDone() const { return cursor_ ? segmentFirst_ + cursor_->samplesDone() : 0; }
     std::uint32_t tile_ = 32, zoom_ = 1, samplesShown_ = 0;
     bool falseColour_ = false, shownFalseColour_ = false, started_ = false;
     double traceSeconds_ = 0, relMse_ = 0, passSlowest_ = 0;
