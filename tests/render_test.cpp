@@ -1003,33 +1003,31 @@ TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
 #endif
 }
 
-// The CLI on the Vulkan device (lavapipe unless chosen): the same crop property on the GPU. The
-// fixture skips visibly without a device.
 /// Where --checkpoints and oas-view stop. Faure over 8 dimensions has base 8, the smallest prime
 /// power >= 8, so its nets are at 8 and 64 (and 512 past 100 spp); Bose at 16 spp has N = 16.
 TEST(Checkpoints, FaureAtThePowersOfItsBaseOthersAtWholePasses)
 {
     using V = std::vector<std::uint32_t>;
-    PatternRequest f;
-    f.sampler = "faure";
-    f.spp = 100;
-    f.dims = 8;
-    const Pattern faure = makePattern(f);
+    auto make = [](const char* sampler, std::uint32_t spp) {
+        PatternRequest r;
+        r.sampler = sampler;
+        r.spp = spp;
+        r.dims = 8;
+        return makePattern(r);
+    };
+    const Pattern faure = make("faure", 100), bose = make("bose", 16);
     ASSERT_EQ(faure.s, 8u);
     EXPECT_EQ(apps::checkpointCounts(faure, 0, 100), (V{8, 64}));
     EXPECT_EQ(apps::checkpointCounts(faure, 8, 100), (V{64}));
     EXPECT_EQ(apps::checkpointCounts(faure, 0, 64), (V{8}));  // the end is not a stop
     EXPECT_EQ(apps::checkpointCounts(faure, 64, 100), V{});
-    PatternRequest b;
-    b.sampler = "bose";
-    b.spp = 16;
-    b.dims = 8;
-    const Pattern bose = makePattern(b);
     ASSERT_EQ(bose.N, 16u);
     EXPECT_EQ(apps::checkpointCounts(bose, 0, 50), (V{16, 32, 48}));
     EXPECT_EQ(apps::checkpointCounts(bose, 16, 48), (V{32}));
 }
 
+// The CLI on the Vulkan device (lavapipe unless chosen): the same crop property on the GPU. The
+// fixture skips visibly without a device.
 /// --checkpoints: one render writes the image after every q^m samples of a faure sequence (q = 11
 /// here: 11 and 121 of 300), each the sums of the shard render --samples 0:q^m word for word,
 /// and the final image is that of the render without checkpoints.
