@@ -22,6 +22,7 @@
 
 #include "apps/checkpoints.hpp"
 #include "gpu_test_support.hpp"
+#include "test_cases.hpp"
 #include "render/plan.hpp"
 #include "render/render_file.hpp"
 #include "render/scene_data.hpp"
@@ -1008,14 +1009,7 @@ TEST(RenderCli, ImagesTooLargeForMemorySayHowLarge)
 TEST(Checkpoints, FaureAtThePowersOfItsBaseOthersAtWholePasses)
 {
     using V = std::vector<std::uint32_t>;
-    auto make = [](const char* sampler, std::uint32_t spp) {
-        PatternRequest r;
-        r.sampler = sampler;
-        r.spp = spp;
-        r.dims = 8;
-        return makePattern(r);
-    };
-    const Pattern faure = make("faure", 100), bose = make("bose", 16);
+    const Pattern faure = test::faurePattern(100, 8), bose = makePattern({.sampler = "bose", .spp = 16});
     ASSERT_EQ(faure.s, 8u);
     EXPECT_EQ(apps::checkpointCounts(faure, 0, 100), (V{8, 64}));
     EXPECT_EQ(apps::checkpointCounts(faure, 8, 100), (V{64}));

@@ -261,13 +261,14 @@ TEST_F(ViewGpu, FaureStopsAtEveryCheckpointAndEndsAtOasRendersImage)
 {
     // cornell7d draws 8 sample dimensions, so faure's base is 8 (the smallest prime power >= 8)
     // and at 100 spp (N = 8^3) its checkpoints are 8 = 8^1 and 64 = 8^2: the viewer must show
-    // each (it prints a line when it does), in order, and none else; and the segments between
+    // each (it prints a line with what the prefix guarantees when it does), in order, and none
+    // else; and the segments between
     // them must add up to oas-render's 100-spp image, byte for byte.
     const fs::path dir = workDir("faure");
     const Result v = view("'" + kScene + "' --sampler faure --spp 100 --seed 5 --zoom 1 --screenshot shot.png", dir, 210);
     if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
-    const std::size_t first = v.output.find("checkpoint 8 spp = 8^1: each block's first 8 samples are a (0,1,8)-net");
-    const std::size_t second = v.output.find("checkpoint 64 spp = 8^2: each block's first 64 samples are a (0,2,8)-net");
+    const std::size_t first = v.output.find("checkpoint 8 spp: the first 8 of the sequence's 512 samples: the first 8 (1 x 8^1) are a (0,1,8)-net");
+    const std::size_t second = v.output.find("checkpoint 64 spp: the first 64 of the sequence's 512 samples: the first 64 (1 x 8^2) are a (0,2,8)-net");
     EXPECT_NE(first, std::string::npos) << v.output;
     EXPECT_NE(second, std::string::npos) << v.output;
     EXPECT_LT(first, second) << v.output;

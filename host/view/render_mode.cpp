@@ -195,11 +195,8 @@ const Frame& RenderMode::frame(Viewer& v)
         shownFalseColour_ = falseColour_;
         if (reference_ && done) relMse_ = image::compare(image_, *reference_).relMse;
         if (done != checkpointShown_ && std::find(checkpoints_.begin(), checkpoints_.end(), done) != checkpoints_.end()) {
-            checkpointShown_ = done;
-            std::uint32_t m = 0;
-            for (std::uint64_t c = 1; c < done; c *= pattern_.s) ++m;
-            std::printf("oas-view: checkpoint %u spp = %u^%u: each block's first %u samples are a (0,%u,%u)-net\n", done,
-                        pattern_.s, m, done, m, pattern_.blockDims);
+            checkpointShown_ = done;  // what the prefix guarantees, as oas-render --explain says it
+            std::printf("oas-view: checkpoint %u spp: %s\n", done, prefixGuarantee(pattern_, done).c_str());
             std::fflush(stdout);
         }
     }
