@@ -13,7 +13,7 @@ flags="-O1 -g1 -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitiz
   -DOAS_BUILD_BENCHMARKS=OFF -DOAS_BUILD_STUDY_APP=OFF -DOAS_LOOP_TU_OPTIONS=-O0
 cmake --build build-asan -j "$(nproc)"
 # Tests that dispatch on the device (kept in one place: keep it in step with tests/).
-gpu_tests='^(VkSmoke|GpuCpu|GoldenGpu|RenderGpu|StudyGpu|ViewGpu|LoopFree|Specialization|Consumer|MergeGpu|Cluster|SceneCostsGpu|SmallptGpu|FaureGpu|RenderWordsGpu)\.|^CliTest\.Gpu'
+gpu_tests='^(VkSmoke|GpuCpu|GoldenGpu|RenderGpu|StudyGpu|ViewGpu|LoopFree|Specialization|Consumer|MergeGpu|Cluster|SceneCostsGpu|SmallptGpu|FaureGpu|RenderWordsGpu|WavefrontGpu)\.|^CliTest\.Gpu'
 # Too slow under ASan for what they add there; both run unsanitized in the main suite. The largest
 # Bose pattern (2^24 points, ~70 s) runs the same code as the other HardCases tests at a larger
 # count; PermutationQuality (~95 s) is a statistical test of integration error whose code paths the

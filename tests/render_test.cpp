@@ -869,6 +869,8 @@ TEST(RenderCli, BadOverridesExitWithStatus2NameTheValueAndTheRangeAndWriteNothin
         {"--device gpu --threads 0", "--threads 0: the CPU tracer's workers: valid with --device cpu only"},
         {"--device cpu --threads 1025", "--threads: Value 1025 not in range 0 to 1024"},
         {"--device cpu --threads -1", "--threads"},
+        {"--kernel warp", "--kernel \"warp\": valid mega (one invocation traces whole paths) or wavefront"},
+        {"--device cpu --kernel wavefront", "--kernel wavefront: the GPU path tracer's kernel: valid with --device gpu only"},
     };
     for (const auto& [args, message] : bad) {
         const auto [status, err] = runRenderStderr(good + args);
@@ -1062,6 +1064,36 @@ TEST_F(RenderGpu, CliCheckpointsAreTheShardsOfTheirSamples)
 TEST_F(RenderGpu, CliCropWindowHoldsTheWholeFramesPixelsBitForBit)
 {
     checkCropWindow("gpu");
+}
+
+TEST_F(RenderGpu, CliWavefrontKernelWritesTheMegakernelsSumsAndExplainNamesTheKernels)
+{
+    // `--kernel wavefront` renders with pt_wavefront.comp: the file's sums are the default
+    // megakernel's, word for word (tests/wavefront_test.cpp cuts renders every other way).
+    // --explain names the kernels a render runs: the generation kernel where the samples are
+    // prefetched (cornell7d's 7D plan with the OA), then the path tracer's.
+    const auto dir = freshDir("oas_render_kernel");
+    const std::string common = std::string(OAS_SCENES_DIR) + "/cornell7d.json --spp 16 --resolution 12x9 -o '";
+    auto words = [&](const std::string& name, const std::string& more) {
+        const std::string out = (dir / name).string();
+        const auto [status, err] = runRenderStderr(common + out + "' " + more);
+        EXPECT_EQ(status, 0) << err;
+        return render::readRenderFile(out).sums.words;
+    };
+    EXPECT_TRUE(words("mega.exr", "") == words("wavefront.exr", "--kernel wavefront"));
+    const auto explain = [&](const std::string& kernel) {
+        const auto out = dir / ("explain_" + kernel);
+        const std::string command = std::string(OAS_RENDER_EXE) + " " + std::string(OAS_SCENES_DIR) +
+                                    "/cornell7d.json --explain --kernel " + kernel + " >'" + out.string() + "'";
+        EXPECT_EQ(std::system(command.c_str()), 0) << command;
+        std::ifstream in(out);
+        return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    const std::string mega = explain("mega"), wavefront = explain("wavefront");
+    EXPECT_NE(mega.find("GPU kernels: oas_generate ("), std::string::npos) << mega;
+    EXPECT_NE(mega.find(", then pt_render (the megakernel"), std::string::npos) << mega;
+    EXPECT_NE(wavefront.find(", then pt_wavefront: the camera kernel, up to "), std::string::npos) << wavefront;
+    std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -114,7 +114,7 @@ private:
 int main(int argc, char** argv)
 {
     CLI::App app{"oas-render: path-trace a scene with orthogonal-array sampling"};
-    std::string scenePath, sampler, output, device = "gpu", offset, samples;
+    std::string scenePath, sampler, output, device = "gpu", offset, samples, kernel = "mega";
     std::uint32_t spp = 0, seed = 0, strength = 0;
     bool explain = false, checkpoints = false;
     std::string resolution;
@@ -132,6 +132,10 @@ int main(int argc, char** argv)
                    "for oas-merge");
     app.add_option("-o,--output", output, "output EXR (default out/<scene>.exr); a PNG preview is written beside it");
     app.add_option("--device", device, "gpu (Vulkan) or cpu (the reference tracer)")->check(CLI::IsMember({"gpu", "cpu"}));
+    CLI::Option* kernelOption = app.add_option(
+        "--kernel", kernel,
+        "the GPU path tracer: mega (one invocation traces whole paths, the default) or wavefront (paths kept as records, one "
+        "dispatch per vertex); the same image, word for word");
     app.add_option("--resolution", resolution, "override the scene's image size, written as WxH (e.g. 640x480)");
     app.add_option("--cropwindow", crop,
                    "render only the window x0 x1 y0 y1 (fractions of the image, as pbrt's) and write that window "
@@ -151,6 +155,9 @@ int main(int argc, char** argv)
             if (threadsOption->count() && device != "cpu")
                 throw oas::InvalidArgument("--threads " + std::to_string(threads) +
                                            ": the CPU tracer's workers: valid with --device cpu only");
+            const auto gpuKernel = oas::render::parseKernel(kernel, "--kernel");
+            if (kernelOption->count() && device != "gpu")
+                throw oas::InvalidArgument("--kernel " + kernel + ": the GPU path tracer's kernel: valid with --device gpu only");
             oas::scene::Scene scene = oas::scene::loadScene(scenePath);
             if (!resolution.empty())
                 std::tie(scene.width, scene.height) = oas::render::parseResolution(resolution, "--resolution");
@@ -172,6 +179,8 @@ int main(int argc, char** argv)
                           << " shapes, " << scene.lights.size() + scene.areaLightCount() << " lights\n"
                           << "dimension plan: " << plan.explain() << "sampler: " << choice << "\n"
                           << "samples per pixel: " << scene.sampler.spp << "\n";
+                if (device == "gpu")
+                    std::cout << "GPU kernels: " << oas::render::describeKernels(plan, pattern, gpuKernel) << "\n";
                 const std::string prefix = oas::prefixGuarantee(pattern, scene.sampler.spp);
                 if (!prefix.empty()) std::cout << "progressive: " << prefix << "\n";
                 return 0;
@@ -202,7 +211,9 @@ int main(int argc, char** argv)
                 where = context->deviceName();
                 std::cerr << "building the path-tracing pipeline for this plan on " << where
                           << (context->isLavapipe() ? " (lavapipe compiles it with LLVM: about 2 s)" : "") << "...\n";
-                gpu = std::make_unique<oas::render::GpuTracer>(*context, data, plan, pattern);
+                oas::render::GpuTracerOptions options;
+                options.kernel = gpuKernel;
+                gpu = std::make_unique<oas::render::GpuTracer>(*context, data, plan, pattern, options);
                 std::fprintf(stderr, "pipeline built in %.2f s\n", gpu->pipelineBuildSeconds());
             }
             const std::string part = samples.empty() ? "" : ", samples " + oas::render::formatRanges({range});

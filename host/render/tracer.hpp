@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "oas/generate_gpu.hpp"
@@ -18,6 +19,8 @@
 #include "vk/context.hpp"
 
 namespace oas::render {
+
+class GpuWavefront;  // render/wavefront_gpu.hpp
 
 /// Samples [firstSample, firstSample + count) of every pixel in the rectangle, added to an
 /// accumulation of the whole image.
@@ -131,6 +134,20 @@ constexpr std::uint32_t kPrefetchPaysUpToDims = 16;
 /// or the sample fetches alone.
 enum class KernelStage : std::uint32_t { PathTrace = 0, Nothing = 1, FetchesOnly = 2 };
 
+/// The wavefront's default queue capacity in paths: a whole tile (kRenderTile^2 pixels) of the
+/// largest batch (kMaxSamplesPerBatch), so that oas-render's batches are never split. Two queues
+/// of 80-byte records and 16 bytes of radiance a path: 176 MiB at this capacity, allocated only
+/// as large as the largest batch traced.
+constexpr std::uint64_t kWavefrontMaxPaths = std::uint64_t(kRenderTile) * kRenderTile * kMaxSamplesPerBatch;
+
+/// What the wavefront kernel did since the last clear(): paths started (camera rays), paths
+/// ended, and how many paths took each step (stepped[v]: the paths that found vertex v, v >= 1;
+/// stepped[0] is unused). Every path started ends once (the tracer throws otherwise).
+struct WavefrontStats {
+    std::uint64_t started = 0, finished = 0;
+    std::vector<std::uint64_t> stepped;
+};
+
 /// How the GPU kernel is specialised; renders use the defaults, oas-render-bench varies them.
 struct GpuTracerOptions {
     KernelStage stage = KernelStage::PathTrace;
@@ -148,7 +165,23 @@ struct GpuTracerOptions {
     /// Caps the points (pixels x samples) one generation dispatch makes; 0: the device's limits.
     /// A batch with more is traced in strips of rows (tests cover the seams with a small cap).
     std::uint64_t maxPrefetchPoints = 0;
+    /// The megakernel (pt_render.comp: one invocation traces a pixel's samples, whole paths) or
+    /// the wavefront (pt_wavefront.comp: paths as records in queues, one dispatch per vertex, for
+    /// PathTrace only). The same sums, word for word.
+    enum class Kernel { Mega, Wavefront };
+    Kernel kernel = Kernel::Mega;
+    /// The wavefront's queue capacity in paths; 0: kWavefrontMaxPaths. A batch with more is traced
+    /// in strips of rows; where one row's paths exceed it, trace() refuses the batch, naming it.
+    std::uint64_t maxWavefrontPaths = 0;
 };
+
+/// "Kernel" names for --kernel and --explain: "mega" and "wavefront".
+const char* kernelName(GpuTracerOptions::Kernel kernel);
+/// Parses a --kernel value; throws oas::InvalidArgument naming `option`, the value and the valid ones.
+GpuTracerOptions::Kernel parseKernel(const std::string& value, const char* option);
+/// The GPU kernels a render of this plan and pattern runs, in order, for --explain: the generation
+/// kernel where samples are prefetched, then the megakernel or the wavefront's three.
+std::string describeKernels(const DimensionPlan& plan, const Pattern& pattern, GpuTracerOptions::Kernel kernel);
 
 /// The kernel's specialization constants for a plan and pattern: each field of the table
 /// (shaders/pt/pt_constants.glsl) from its HOST expression, the scene-feature entries from
@@ -181,6 +214,8 @@ public:
     double pipelineBuildSeconds() const { return pipelineBuildSeconds_; }
     /// samplesPerBatch for this tracer's scene and plan.
     std::uint32_t samplesPerBatch() const { return samplesPerBatch_; }
+    /// The wavefront's counts since the last clear() (all zero with the megakernel).
+    WavefrontStats wavefrontStats() const;
 
 private:
     vk::Context& context_;
@@ -190,6 +225,7 @@ private:
     std::vector<std::unique_ptr<vk::Buffer>> buffers_;
     std::uint32_t prefetchDims_ = 0;           ///< PT_PREFETCH_DIMS
     std::unique_ptr<GpuGenerator> generator_;  ///< the batches' samples, where prefetchDims_ != 0
+    std::unique_ptr<GpuWavefront> wavefront_;  ///< the wavefront kernels, where options say so
     double pipelineBuildSeconds_ = 0;
     std::uint32_t samplesPerBatch_ = 1;
 };

@@ -9,6 +9,7 @@
 
 #include "oas/glsl_compat.hpp"
 #include "render/tracer.hpp"
+#include "render/wavefront_gpu.hpp"
 #include "pt_render_spv.h"
 
 namespace oas::render {
@@ -88,8 +89,14 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     PT_BINDINGS(PT_BINDING_KIND)
 #undef PT_BINDING_KIND
     const auto buildStart = std::chrono::steady_clock::now();  // times the pipeline build alone
-    pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), kBindingCount,
-                                                      std::uint32_t(sizeof(RenderParams)), spec, kinds);
+    if (options.kernel == GpuTracerOptions::Kernel::Wavefront) {
+        if (options.stage != KernelStage::PathTrace)
+            throw std::invalid_argument("GpuTracer: the wavefront kernel traces paths only (KernelStage::PathTrace)");
+        wavefront_ = std::make_unique<GpuWavefront>(context_, s, options.maxWavefrontPaths);
+    } else {
+        pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), kBindingCount,
+                                                          std::uint32_t(sizeof(RenderParams)), spec, kinds);
+    }
     if (prefetchDims_ != 0) {
         generator_ = std::make_unique<GpuGenerator>(context_);
         if (options.maxPrefetchPoints) generator_->setMaxPointsPerDispatch(options.maxPrefetchPoints);
@@ -207,6 +214,7 @@ std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint3
 
 void GpuTracer::clear()
 {
+    if (wavefront_) wavefront_->clearStats();
     const vk::Buffer& sums = *buffers_[pt::PT_BINDING_ACCUMULATION];
     std::memset(sums.data(), 0, sums.size());
 }
@@ -221,13 +229,15 @@ void GpuTracer::trace(const SampleBatch& b)
     std::vector<vk::Buffer*> bindings;
     for (auto& buffer : buffers_) bindings.push_back(buffer.get());
     const auto dispatch = [&](const SampleBatch& part) {
+        if (wavefront_) return wavefront_->trace(pattern_, part, bindings);
         RenderParams params{pattern_, part.x0, part.y0, part.width, part.height, part.firstSample, part.count, part.seed};
         context_.dispatch(*pipeline_, bindings, &params, sizeof(params), (part.width + 7) / 8, (part.height + 7) / 8);
     };
-    if (prefetchDims_ == 0 || b.width == 0 || b.height == 0 || b.count == 0) return dispatch(b);
+    if ((prefetchDims_ == 0 && !wavefront_) || b.width == 0 || b.height == 0 || b.count == 0) return dispatch(b);
     // The generation kernel writes the batch's values, [pixel of the rectangle][sample][dim], and
-    // the path tracer reads them; a rectangle too large for one generation dispatch goes in strips
-    // of rows (the pixels are independent, so the sums are the same).
+    // the path tracer reads them; a rectangle too large for one generation dispatch, or for the
+    // wavefront's queues, goes in strips of rows (the pixels are independent, so the sums are the
+    // same).
     SampleRequest request;
     request.x0 = b.x0;
     request.width = b.width;
@@ -237,16 +247,52 @@ void GpuTracer::trace(const SampleBatch& b)
     request.firstSample = b.firstSample;
     std::uint32_t rows = b.height;
     request.height = rows;
-    while (rows > 1 && !generator_->fitsOneDispatch(pattern_, request)) request.height = rows = (rows + 1) / 2;
+    const auto fits = [&] {
+        return (prefetchDims_ == 0 || generator_->fitsOneDispatch(pattern_, request)) &&
+               (!wavefront_ || std::uint64_t(b.width) * rows * b.count <= wavefront_->capacity());
+    };
+    while (rows > 1 && !fits()) request.height = rows = (rows + 1) / 2;
     for (std::uint32_t y = 0; y < b.height; y += rows) {
         SampleBatch strip = b;
         strip.y0 = b.y0 + y;
         strip.height = std::min(rows, b.height - y);
         request.y0 = strip.y0;
         request.height = strip.height;
-        bindings[pt::PT_BINDING_SAMPLES] = &generator_->generateOnDevice(pattern_, request);
+        if (prefetchDims_ != 0) bindings[pt::PT_BINDING_SAMPLES] = &generator_->generateOnDevice(pattern_, request);
         dispatch(strip);
     }
+}
+
+WavefrontStats GpuTracer::wavefrontStats() const
+{
+    return wavefront_ ? wavefront_->stats() : WavefrontStats{};
+}
+
+const char* kernelName(GpuTracerOptions::Kernel kernel)
+{
+    return kernel == GpuTracerOptions::Kernel::Wavefront ? "wavefront" : "mega";
+}
+
+GpuTracerOptions::Kernel parseKernel(const std::string& value, const char* option)
+{
+    for (const auto kernel : {GpuTracerOptions::Kernel::Mega, GpuTracerOptions::Kernel::Wavefront})
+        if (value == kernelName(kernel)) return kernel;
+    throw InvalidArgument(fmt::format("{} \"{}\": valid mega (one invocation traces whole paths) or wavefront (paths as "
+                                      "records, one dispatch per vertex)",
+                                      option, value));
+}
+
+std::string describeKernels(const DimensionPlan& plan, const Pattern& pattern, GpuTracerOptions::Kernel kernel)
+{
+    const std::uint32_t dims = prefetchDims(plan, pattern);
+    std::string out;
+    if (dims != 0 && dims <= kPrefetchPaysUpToDims)
+        out = fmt::format("oas_generate ({} sample dimensions per path, made before each batch), then ", dims);
+    if (kernel == GpuTracerOptions::Kernel::Mega)
+        return out + "pt_render (the megakernel: one invocation traces a pixel's samples, whole paths)";
+    return out + fmt::format("pt_wavefront: the camera kernel, up to {} step kernels (one per vertex, over the paths still "
+                             "live), the pixels' sums",
+                             plan.maxDepth + 1);
 }
 
 Accumulation GpuTracer::accumulation() const

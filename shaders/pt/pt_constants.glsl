@@ -67,9 +67,13 @@ const uint PT_ABSENT = 0xffffffffu;
 /// which the generation kernel (oas_generate.comp) filled for the batch just before, this many
 /// dimensions per (pixel, sample), a multiple of 4. GpuTracer sets it (host/render/tracer.hpp,
 /// prefetchDims, which reads the plan constants through specialization(): not a HOST expression).
+/// PT_WAVEFRONT_STAGE: which of pt_wavefront.comp's three kernels a pipeline is (0 the camera
+/// rays, 1 one step of the live paths, 2 the pixels' sums); the host sets it per pipeline
+/// (host/render/wavefront_gpu.cpp), pt_render.comp ignores it.
 #define PT_KERNEL_CONSTANTS(X) \
     X(PT_STAGE, 30, uint, 0u, stage) \
-    X(PT_PREFETCH_DIMS, 37, uint, 0u, 0u)
+    X(PT_PREFETCH_DIMS, 37, uint, 0u, 0u) \
+    X(PT_WAVEFRONT_STAGE, 38, uint, 0u, 0u)
 
 /// The scene's features (host/render/scene_data.hpp SceneFeatures; defaults in pt/pt_trace.glsl,
 /// tests in pt_intersect, pt_bsdf and pt_light.glsl): the defaults keep every path, the GPU kernel
@@ -105,5 +109,16 @@ const uint PT_ABSENT = 0xffffffffu;
     X(PT_BINDING_SAMPLES, 7u, true)
 #define PT_DECLARE_BINDING(NAME, BINDING, TEXELS) const uint NAME = BINDING;
 PT_BINDINGS(PT_DECLARE_BINDING)
+
+/// pt_wavefront.comp's buffers past PT_BINDINGS', X(NAME, BINDING): the live paths' records read
+/// (a texel buffer of uvec4) and written (a storage texel buffer of uint), each path's radiance
+/// when it ends (a storage texel buffer of uint), and the queue counters (a storage buffer).
+#define PT_WAVEFRONT_BINDINGS(X) \
+    X(PT_BINDING_PATHS_IN, 8u) \
+    X(PT_BINDING_PATHS_OUT, 9u) \
+    X(PT_BINDING_RESULTS, 10u) \
+    X(PT_BINDING_COUNTERS, 11u)
+#define PT_DECLARE_WAVEFRONT_BINDING(NAME, BINDING) const uint NAME = BINDING;
+PT_WAVEFRONT_BINDINGS(PT_DECLARE_WAVEFRONT_BINDING)
 
 #endif
