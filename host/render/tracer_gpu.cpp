@@ -67,6 +67,23 @@ pt::PtSpecialization specialization(const DimensionPlan& plan, const Pattern& pa
     return s;
 }
 
+vk::ComputePipeline::SpecConstants specConstants(const pt::PtSpecialization& s)
+{
+#define PT_SPEC_ENTRY(NAME, ID, TYPE, DEFAULT, HOST) {ID, std::uint32_t(s.NAME)},
+    return {PT_SPEC_CONSTANTS(PT_SPEC_ENTRY)};
+#undef PT_SPEC_ENTRY
+}
+
+std::vector<vk::BindingKind> sceneBindingKinds(std::uint32_t bindingCount)
+{
+    std::vector<vk::BindingKind> kinds(bindingCount);
+#define PT_BINDING_KIND(NAME, BINDING, TEXELS)                                                                                   \
+    kinds[BINDING] = (TEXELS) ? vk::BindingKind::Uint4TexelBuffer : vk::BindingKind::StorageBuffer;
+    PT_BINDINGS(PT_BINDING_KIND)
+#undef PT_BINDING_KIND
+    return kinds;
+}
+
 GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const DimensionPlan& plan, const Pattern& pattern,
                      const GpuTracerOptions& options)
     : context_(context), pattern_(pattern), width_(std::uint32_t(data.globals.image.x)),
@@ -80,14 +97,6 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     const bool prefetch = always || (options.prefetch == GpuTracerOptions::Prefetch::WherePays && dims <= kPrefetchPaysUpToDims);
     s.PT_PREFETCH_DIMS = prefetch ? dims : 0;
     prefetchDims_ = s.PT_PREFETCH_DIMS;
-#define PT_SPEC_ENTRY(NAME, ID, TYPE, DEFAULT, HOST) {ID, std::uint32_t(s.NAME)},
-    const vk::ComputePipeline::SpecConstants spec = {PT_SPEC_CONSTANTS(PT_SPEC_ENTRY)};
-#undef PT_SPEC_ENTRY
-    std::vector<vk::BindingKind> kinds(kBindingCount);
-#define PT_BINDING_KIND(NAME, BINDING, TEXELS)                                                                                   \
-    kinds[BINDING] = (TEXELS) ? vk::BindingKind::Uint4TexelBuffer : vk::BindingKind::StorageBuffer;
-    PT_BINDINGS(PT_BINDING_KIND)
-#undef PT_BINDING_KIND
     const auto buildStart = std::chrono::steady_clock::now();  // times the pipeline build alone
     if (options.kernel == GpuTracerOptions::Kernel::Wavefront) {
         if (options.stage != KernelStage::PathTrace)
@@ -95,7 +104,8 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
         wavefront_ = std::make_unique<GpuWavefront>(context_, s, options.maxWavefrontPaths);
     } else {
         pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), kBindingCount,
-                                                          std::uint32_t(sizeof(RenderParams)), spec, kinds);
+                                                          std::uint32_t(sizeof(RenderParams)), specConstants(s),
+                                                          sceneBindingKinds(kBindingCount));
     }
     if (prefetchDims_ != 0) {
         generator_ = std::make_unique<GpuGenerator>(context_);

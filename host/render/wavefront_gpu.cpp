@@ -28,20 +28,13 @@ static_assert(kWavefrontBindings == kBindingCount + 4, "pt_wavefront.comp's bind
 std::unique_ptr<vk::ComputePipeline> makeStage(vk::Context& context, pt::PtSpecialization s, std::uint32_t stage)
 {
     s.PT_WAVEFRONT_STAGE = stage;
-#define PT_SPEC_ENTRY(NAME, ID, TYPE, DEFAULT, HOST) {ID, std::uint32_t(s.NAME)},
-    const vk::ComputePipeline::SpecConstants spec = {PT_SPEC_CONSTANTS(PT_SPEC_ENTRY)};
-#undef PT_SPEC_ENTRY
-    std::vector<vk::BindingKind> kinds(kWavefrontBindings);
-#define PT_BINDING_KIND(NAME, BINDING, TEXELS)                                                                                   \
-    kinds[BINDING] = (TEXELS) ? vk::BindingKind::Uint4TexelBuffer : vk::BindingKind::StorageBuffer;
-    PT_BINDINGS(PT_BINDING_KIND)
-#undef PT_BINDING_KIND
+    std::vector<vk::BindingKind> kinds = sceneBindingKinds(kWavefrontBindings);
     kinds[pt::PT_BINDING_PATHS_IN] = vk::BindingKind::Uint4TexelBuffer;
     kinds[pt::PT_BINDING_PATHS_OUT] = vk::BindingKind::UintStorageTexelBuffer;
     kinds[pt::PT_BINDING_RESULTS] = vk::BindingKind::UintStorageTexelBuffer;
     kinds[pt::PT_BINDING_COUNTERS] = vk::BindingKind::StorageBuffer;
     return std::make_unique<vk::ComputePipeline>(context, pt_wavefront_spv, sizeof(pt_wavefront_spv), kWavefrontBindings,
-                                                 std::uint32_t(sizeof(WavefrontParams)), spec, kinds);
+                                                 std::uint32_t(sizeof(WavefrontParams)), specConstants(s), kinds);
 }
 
 }  // namespace

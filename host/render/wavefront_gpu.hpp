@@ -13,6 +13,13 @@
 
 namespace oas::render {
 
+/// The pipeline's specialization constants, one {constant_id, value} per entry of `s`: what
+/// pt_render.comp and pt_wavefront.comp are built with (render/tracer_gpu.cpp).
+vk::ComputePipeline::SpecConstants specConstants(const pt::PtSpecialization& s);
+/// Binding kinds for `bindingCount` bindings, PT_BINDINGS's set as that table says (the scene's
+/// texel buffers, the sums' storage buffer); the rest are the caller's to set.
+std::vector<vk::BindingKind> sceneBindingKinds(std::uint32_t bindingCount);
+
 class GpuWavefront {
 public:
     /// `s`: the megakernel's specialization (plan, sampler, scene features, PT_PREFETCH_DIMS);
