@@ -262,8 +262,7 @@ TEST_F(ViewGpu, FaureStopsAtEveryCheckpointAndEndsAtOasRendersImage)
     // cornell7d draws 8 sample dimensions, so faure's base is 8 (the smallest prime power >= 8)
     // and at 100 spp (N = 8^3) its checkpoints are 8 = 8^1 and 64 = 8^2: the viewer must show
     // each (it prints a line with what the prefix guarantees when it does), in order, and none
-    // else; and the segments between
-    // them must add up to oas-render's 100-spp image, byte for byte.
+    // else; and the segments between them must add up to oas-render's 100-spp image, byte for byte.
     const fs::path dir = workDir("faure");
     const Result v = view("'" + kScene + "' --sampler faure --spp 100 --seed 5 --zoom 1 --screenshot shot.png", dir, 210);
     if (skipped_) GTEST_SKIP() << "SKIPPED: no Vulkan device";
