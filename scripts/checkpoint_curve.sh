@@ -23,9 +23,19 @@ for seed in $(seq 1 "$seeds"); do
         [ "$c" = "$max" ] && f="$out/faure.exr"
         echo "$scene faure $c $seed $(relmse "$f")"
         for s in sobol oa; do
+            # A count below q^2 has no orthogonal array: oas-render refuses it as bad input (exit 2),
+            # and the line says n/a; any other failure stops the script.
+            rc=0
             build/oas-render "scenes/$scene.json" --sampler $s --spp "$c" --resolution 64x64 --device cpu --seed "$seed" \
-                -o "$out/$s.exr" >/dev/null 2>&1
-            echo "$scene $s $c $seed $(relmse "$out/$s.exr")"
+                -o "$out/$s.exr" >/dev/null 2>&1 || rc=$?
+            if [ "$rc" = 2 ] && [ "$s" = oa ]; then
+                echo "$scene $s $c $seed n/a"
+            elif [ "$rc" = 0 ]; then
+                echo "$scene $s $c $seed $(relmse "$out/$s.exr")"
+            else
+                echo "checkpoint_curve.sh: oas-render --sampler $s --spp $c failed (exit $rc)" >&2
+                exit 1
+            fi
         done
     done
 done

@@ -301,6 +301,27 @@ Verdict compare(const Estimate& a, const Estimate& b)
     return d < 0 ? Verdict::FirstLower : Verdict::SecondLower;
 }
 
+double excessInStandardErrors(const Estimate& a, const Estimate& b)
+{
+    const double band = std::sqrt(a.se * a.se + b.se * b.se);
+    return band > 0 ? (a.mean - b.mean) / band : std::nan("");
+}
+
+double familyWiseOneSidedBound(int comparisons, double alpha)
+{
+    if (comparisons < 1 || !(alpha > 0 && alpha < 1))
+        throw std::invalid_argument("familyWiseOneSidedBound: comparisons >= 1 and 0 < alpha < 1 (got " +
+                                    std::to_string(comparisons) + ", " + std::to_string(alpha) + ")");
+    // P(Z > z) = erfc(z / sqrt 2) / 2 falls with z: bisect on [0, 40] to double precision.
+    const double tail = alpha / comparisons;
+    double lo = 0, hi = 40;
+    for (int i = 0; i < 200 && hi - lo > 1e-12; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (0.5 * std::erfc(mid / std::sqrt(2.0)) > tail ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
 std::string verdictWord(Verdict v)
 {
     switch (v) {

@@ -63,6 +63,13 @@ Estimate estimateOf(const std::vector<double>& values);
 /// estimates (normal approximation); anything closer, or with an unknown s.e., is a tie.
 enum class Verdict { Tie, FirstLower, SecondLower };
 Verdict compare(const Estimate& a, const Estimate& b);
+/// (a − b) / sqrt(se_a² + se_b²): how many combined standard errors a lies above b (NaN where
+/// either s.e. is unknown).
+double excessInStandardErrors(const Estimate& a, const Estimate& b);
+/// The one-sided normal bound z with P(Z > z) = alpha / comparisons: a difference beyond it in
+/// any of `comparisons` tests happens by chance with probability at most alpha when every pair is
+/// equal (Bonferroni's inequality). One comparison at alpha 0.05: 1.645.
+double familyWiseOneSidedBound(int comparisons, double alpha = 0.05);
 /// "a < b", "a > b" as text for tables: "lower", "higher", "tie".
 std::string verdictWord(Verdict v);
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <stdexcept>
 
 #include "stats.hpp"
 
@@ -86,6 +87,21 @@ TEST(StudyStats, VerdictIsATieWhileTheIntervalsOverlap)
     EXPECT_EQ(compare(est(NAN, 0.1), est(5, 0.01)), Verdict::Tie);
     EXPECT_EQ(verdictWord(Verdict::Tie), "tie");
     EXPECT_EQ(verdictWord(Verdict::FirstLower), "lower");
+}
+
+TEST(StudyStats, FamilyWiseBoundIsTheNormalQuantileAtAlphaOverTheComparisons)
+{
+    // Printed normal tables: z_0.95 = 1.6449, z_0.995 = 2.5758; 1 - 0.05/48 gives 3.0781.
+    EXPECT_NEAR(familyWiseOneSidedBound(1), 1.6449, 1e-4);
+    EXPECT_NEAR(familyWiseOneSidedBound(10), 2.5758, 1e-4);
+    EXPECT_NEAR(familyWiseOneSidedBound(48), 3.0781, 1e-4);
+    EXPECT_GT(familyWiseOneSidedBound(49), familyWiseOneSidedBound(48));
+    EXPECT_THROW(familyWiseOneSidedBound(0), std::invalid_argument);
+    EXPECT_THROW(familyWiseOneSidedBound(4, 1.5), std::invalid_argument);
+    // Combined s.e. sqrt(0.3² + 0.4²) = 0.5.
+    EXPECT_DOUBLE_EQ(excessInStandardErrors(est(11.5, 0.3), est(10, 0.4)), 3.0);
+    EXPECT_DOUBLE_EQ(excessInStandardErrors(est(10, 0.3), est(11.5, 0.4)), -3.0);
+    EXPECT_TRUE(std::isnan(excessInStandardErrors(est(1, NAN), est(5, 0.01))));
 }
 
 TEST(StudyStats, AdaptiveDrawsStopAtTenPerCent)
