@@ -487,6 +487,7 @@ int main(int argc, char** argv)
             so.rarePixels = sceneRarePixels;
             so.maxRareRenders = sceneMaxRareRenders ? sceneMaxRareRenders : (quick ? 1024u : 16384u);
             const auto sceneSamplers = sceneSamplersOf(samplers, quick);
+            so.modeSamplers = sceneSamplersOf(studySamplers(), quick);
             if (so.samplerShard)
                 so.extraSecondsPerScene *= double(sceneSamplers.size()) / double(sceneSamplersOf(studySamplers(), quick).size());
             writeSection(outDir + "/scenes.md", runSceneStudy(so, sceneSamplers, device()));

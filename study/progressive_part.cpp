@@ -148,8 +148,8 @@ std::string runProgressiveStudy(const ProgressiveOptions& opt)
     bool laterCheckpointsMet = true;  // no Faure MSE "higher" than Bose passes' at any N > q^2
     std::string goalMisses;
     int firstComparisons = 0;  // (integrand, base) pairs compared with Bose at N = q^2
-    // At N = q^2 the two are one orthogonal array each, equal in distribution where the offsets
-    // are: there the goal is "within noise", judged on the family of these comparisons (below).
+    // At N = q^2 the two are one orthogonal array each, which differ only in how the finer digit
+    // is placed: there the goal is "within noise", judged on the family of these comparisons.
     std::vector<double> firstExcesses;  // Faure's MSE above Bose's, in combined s.e., at N = q^2
     double largestFirstExcess = -INFINITY;
     std::string largestFirstExcessAt;

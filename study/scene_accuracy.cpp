@@ -146,11 +146,8 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         info.dims = plan.usedDims;
         info.crop = cropPixels(sc, scene.width, scene.height);
 
-        // Every (sampler, spp) pattern first, so that all pipelines can be built up front.
-        std::vector<std::vector<std::pair<std::uint32_t, oas::Pattern>>> runs(samplers.size());
-        std::vector<oas::Pattern> allPatterns;
-        for (std::uint32_t k = 0; k < samplers.size(); ++k) {
-            const SamplerSpec& s = samplers[k];
+        // The sampler's counts in this scene.
+        auto ladderOf = [&](const SamplerSpec& s) {
             std::vector<std::uint32_t> ladder = countLadder(s, plan.sampleDims, o.minSpp, o.maxSpp);
             // Random and Halton take any count: add the Bose counts, for comparisons at matched spp.
             const bool anyCount = s.sampler == "random" || s.sampler == "halton";
@@ -170,7 +167,14 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
             }
             std::sort(ladder.begin(), ladder.end());
             ladder.erase(std::unique(ladder.begin(), ladder.end()), ladder.end());
-            for (std::uint32_t spp : ladder) {
+            return ladder;
+        };
+        // Every (sampler, spp) pattern first, so that all pipelines can be built up front.
+        std::vector<std::vector<std::pair<std::uint32_t, oas::Pattern>>> runs(samplers.size());
+        std::vector<oas::Pattern> allPatterns;
+        for (std::uint32_t k = 0; k < samplers.size(); ++k) {
+            const SamplerSpec& s = samplers[k];
+            for (std::uint32_t spp : ladderOf(s)) {
                 try {
                     runs[k].push_back({spp, oas::makePattern(patternRequest(s, spp, plan.sampleDims))});
                     allPatterns.push_back(runs[k].back().second);
@@ -193,9 +197,19 @@ std::string runSceneStudy(const SceneStudyOptions& o, const std::vector<SamplerS
         }
         // The reference has 16x the samples of the scene's largest count (a power of two, so that
         // each half is a Sobol count), unless the caller chose one or the shard joins a record.
+        // The largest count is the mode's, over every sampler of it, not only this shard's.
         std::uint32_t largest = 0;
         for (const auto& r : runs)
             for (const auto& [spp, pattern] : r) largest = std::max(largest, spp);
+        for (const SamplerSpec& s : o.modeSamplers)
+            for (std::uint32_t spp : ladderOf(s)) {
+                if (spp <= largest) continue;
+                try {
+                    oas::makePattern(patternRequest(s, spp, plan.sampleDims));  // a count the sampler can make
+                    largest = spp;
+                } catch (const std::exception&) {
+                }
+            }
         std::uint32_t referenceSpp = o.referenceSpp;
         if (referenceSpp == 0 && takeKept) referenceSpp = kept->referenceSpp;
         if (referenceSpp == 0) {

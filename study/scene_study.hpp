@@ -47,6 +47,10 @@ struct SceneStudyOptions {
     std::uint32_t paperHighSpp = 0;
     /// Sobol reference, rendered as two independent halves; 0: 16 × the scene's largest count.
     std::uint32_t referenceSpp = 0;
+    /// Every sampler the scene part of this mode renders, in whatever shards (empty: the run's
+    /// own): the scene's largest count, and so the default reference, is taken over these, so
+    /// that a first shard (the Dask driver's Sobol task) picks the reference the whole run would.
+    std::vector<SamplerSpec> modeSamplers;
     /// Independent renders (new user seeds) per (sampler, spp): at least minTrials each, then
     /// more from a render-time budget that all of a scene's points share (budgetedMeans: the next
     /// render goes to the point whose relative s.e. it shrinks most per second, among points whose

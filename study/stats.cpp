@@ -312,9 +312,9 @@ double familyWiseOneSidedBound(int comparisons, double alpha)
     if (comparisons < 1 || !(alpha > 0 && alpha < 1))
         throw std::invalid_argument("familyWiseOneSidedBound: comparisons >= 1 and 0 < alpha < 1 (got " +
                                     std::to_string(comparisons) + ", " + std::to_string(alpha) + ")");
-    // P(Z > z) = erfc(z / sqrt 2) / 2 falls with z: bisect on [0, 40] to double precision.
+    // P(Z > z) = erfc(z / sqrt 2) / 2 falls with z: bisect on [-40, 40] to double precision.
     const double tail = alpha / comparisons;
-    double lo = 0, hi = 40;
+    double lo = -40, hi = 40;
     for (int i = 0; i < 200 && hi - lo > 1e-12; ++i) {
         const double mid = 0.5 * (lo + hi);
         (0.5 * std::erfc(mid / std::sqrt(2.0)) > tail ? lo : hi) = mid;

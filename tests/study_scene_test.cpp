@@ -836,6 +836,27 @@ TEST_F(StudyGpu, AShardWithDefaultSettingsTakesTheKeptReferenceAndRendersPerPoin
     EXPECT_EQ(samplers, (std::set<std::string>{"Random", "Sobol"}));
 }
 
+// The Dask driver's first task renders the reference with Sobol alone; the reference count must
+// be the one the whole run picks, 16x the largest count over every sampler of the mode. With a
+// high count of 98 (the study's 4096 in miniature), Addelman-Kempthorne has 2 x 7^2 = 98, so
+// 16 x 98 = 1568 rounds up to 2048; Sobol has no power of two within 2^(1/4) of 98, so its own
+// largest is the ladder's 32, which gives 512.
+TEST_F(StudyGpu, AFirstShardTakesTheWholeModesReferenceCount)
+{
+    SceneStudyOptions o = tinyCornell("oas_first_shard_reference", 32, 0);
+    const std::filesystem::path dir = o.outDir;
+    o.paperHighSpp = 98;
+    o.samplerShard = true;
+    o.modeSamplers = {specOf("Sobol"), specOf("AddelmanKempthorneCMJ")};
+    runSceneStudy(o, {specOf("Sobol")}, context());
+    EXPECT_EQ(readSceneRecords((dir / "scene_references.csv").string()).at(0).referenceSpp, 2048u);
+    // Negative control: without the mode's samplers the shard's own largest count decides.
+    std::filesystem::remove_all(dir);
+    o.modeSamplers.clear();
+    runSceneStudy(o, {specOf("Sobol")}, context());
+    EXPECT_EQ(readSceneRecords((dir / "scene_references.csv").string()).at(0).referenceSpp, 512u);
+}
+
 // A shard whose scene's reference image is gone can render it again, and joins only if it is the
 // same image: with the record's sampler it is (renders are deterministic); with another it stops.
 TEST_F(StudyGpu, AMissingReferenceIsRebuiltOnlyAsTheSameImage)

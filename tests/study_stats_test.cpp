@@ -96,6 +96,7 @@ TEST(StudyStats, FamilyWiseBoundIsTheNormalQuantileAtAlphaOverTheComparisons)
     EXPECT_NEAR(familyWiseOneSidedBound(10), 2.5758, 1e-4);
     EXPECT_NEAR(familyWiseOneSidedBound(48), 3.0781, 1e-4);
     EXPECT_GT(familyWiseOneSidedBound(49), familyWiseOneSidedBound(48));
+    EXPECT_NEAR(familyWiseOneSidedBound(1, 0.9), -1.2816, 1e-4);  // a tail above one half: z below 0
     EXPECT_THROW(familyWiseOneSidedBound(0), std::invalid_argument);
     EXPECT_THROW(familyWiseOneSidedBound(4, 1.5), std::invalid_argument);
     // Combined s.e. sqrt(0.3² + 0.4²) = 0.5.
