@@ -489,7 +489,7 @@ int main(int argc, char** argv)
             const auto sceneSamplers = sceneSamplersOf(samplers, quick);
             so.modeSamplers = sceneSamplersOf(studySamplers(), quick);
             if (so.samplerShard)
-                so.extraSecondsPerScene *= double(sceneSamplers.size()) / double(sceneSamplersOf(studySamplers(), quick).size());
+                so.extraSecondsPerScene *= double(sceneSamplers.size()) / double(so.modeSamplers.size());
             writeSection(outDir + "/scenes.md", runSceneStudy(so, sceneSamplers, device()));
         }
         if (wants("scene-costs")) {
