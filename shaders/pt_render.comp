@@ -6,6 +6,12 @@
 // does not call for compile away and consume no sample dimensions.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+#ifdef PT_COUNT_OCCUPANCY
+// The counting variant (oas-render-bench --kernels): how many of a subgroup's lanes are still on
+// a path at each vertex, the ceiling of what a wavefront's compaction can give. The path
+// tracer proper is built without it, so it needs no subgroup operations.
+#extension GL_KHR_shader_subgroup_ballot : require
+#endif
 
 #include "pt/pt_kernel.glsl"
 
@@ -33,6 +39,21 @@ OasDraw pt_fetch_group(uint seed, uint index, uint first, uint count)
     return pt_prefetched_group((pixel * params.sampleCount + (index - params.firstSample)) * (PT_PREFETCH_DIMS / 4u), first, count);
 }
 #define PT_FETCH_GROUP pt_fetch_group
+
+#ifdef PT_COUNT_OCCUPANCY
+layout(binding = PT_BINDING_OCCUPANCY, std430) buffer Occupancy { uint occupancy[]; };
+/// Adds, for vertex v, the lanes of this subgroup that reach it and one subgroup step: lanes whose
+/// path ended left the vertex loop and are inactive, so they are not in the ballot.
+void pt_count_lanes(uint v)
+{
+    uvec4 live = subgroupBallot(true);
+    if (subgroupElect()) {
+        atomicAdd(occupancy[2u * v], subgroupBallotBitCount(live));
+        atomicAdd(occupancy[2u * v + 1u], 1u);
+    }
+}
+#define PT_ON_VERTEX pt_count_lanes
+#endif
 
 #include "pt/pt_trace.glsl"
 

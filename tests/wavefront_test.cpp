@@ -175,6 +175,84 @@ TEST_F(WavefrontGpu, EveryPathEndsOnceAndStepsAsFarAsTheSceneLetsIt)
     }
 }
 
+/// The megakernel's counting variant (GpuTracerOptions::countLanes).
+render::GpuTracerOptions countingLanes()
+{
+    render::GpuTracerOptions options;
+    options.countLanes = true;
+    return options;
+}
+
+TEST_F(WavefrontGpu, TheMegakernelsLaneCountsSeeTheWavefrontsPaths)
+{
+    // The counting variant ballots the lanes that run the megakernel's vertex loop at each vertex.
+    // Summed over the subgroups, those are the paths that took that step, which the wavefront
+    // counts another way (its queues' atomic counters), so the two must agree path for path; and
+    // no subgroup step can have more lanes at work than the subgroup has, or none. The counting
+    // variant leaves the sums as they are (the wavefront's equal the megakernel's: the test above).
+    // The scenes oas-render-bench --kernels counts (paths of one, two or three steps, and up to
+    // seven), at 12 px: edge subgroups are part outside the image.
+    if (!context().computeSubgroupBallot()) GTEST_SKIP() << "SKIPPED: this device has no subgroup ballots in compute shaders";
+    const std::uint32_t lanes = context().subgroupSize();
+    for (const std::string name : {"cornell7d.json", "blue_spheres9d.json", "interior_deep.json"}) {
+        const auto p = prepare(name, 12);
+        render::GpuTracer counting(context(), p.data, p.plan, p.pattern, countingLanes());
+        render::GpuTracer wave(context(), p.data, p.plan, p.pattern, withKernel(Kernel::Wavefront));
+        const Window whole{0, 0, p.scene.width, p.scene.height};
+        for (auto* tracer : {&counting, &wave}) render(*tracer, whole, 0, 16, 4);
+        EXPECT_TRUE(counting.accumulation().words == wave.accumulation().words) << name << ": counting changed the sums";
+        const auto counts = counting.laneCounts();
+        const auto stats = wave.wavefrontStats();
+        EXPECT_EQ(counts.subgroupSize, lanes);
+        ASSERT_EQ(counts.liveLanes.size(), p.plan.maxDepth + 2u) << name << ": the vertex loop's iterations, 0 .. maxDepth + 1";
+        EXPECT_EQ(counts.liveLanes[0], stats.started) << name << ": every path starts at the camera";
+        EXPECT_GT(stats.stepped.size(), 1u) << name;
+        for (std::size_t v = 1; v < counts.liveLanes.size(); ++v) {
+            const std::uint64_t stepped = v < stats.stepped.size() ? stats.stepped[v] : 0;
+            EXPECT_EQ(counts.liveLanes[v], stepped) << name << ": lanes and paths at vertex " << v;
+        }
+        for (std::size_t v = 0; v < counts.liveLanes.size(); ++v) {
+            EXPECT_LE(counts.liveLanes[v], counts.subgroupSteps[v] * lanes) << name << ", vertex " << v;
+            EXPECT_LE(counts.subgroupSteps[v], counts.liveLanes[v]) << name << ", vertex " << v << ": a step with no lane";
+        }
+        counting.clear();
+        EXPECT_TRUE(counting.laneCounts().liveLanes.empty()) << "clear() drops the counts";
+    }
+    // The furnace from inside its sphere at 8 x 8 px, one workgroup: every path lives to the depth
+    // limit (4, no roulette), so every subgroup step has all its lanes at work, at the camera and
+    // vertices 1 .. 4, and none runs a fifth. Looking away from the sphere, every path escapes at
+    // its first step.
+    auto s = scene::loadScene(std::string(OAS_SCENES_DIR) + "/furnace.json");
+    auto inside = s;
+    inside.camera.position = {0, 0, 0};
+    inside.camera.lookAt = {0, 0, -1};
+    auto away = s;
+    away.camera.lookAt = away.camera.position + (away.camera.position - away.camera.lookAt);
+    for (const auto* t : {&inside, &away}) {
+        const auto p = prepare(*t, 8);
+        ASSERT_EQ(p.scene.height, 8u);
+        render::GpuTracer counting(context(), p.data, p.plan, p.pattern, countingLanes());
+        render(counting, {0, 0, 8, 8}, 0, 16, 3);
+        const auto counts = counting.laneCounts();
+        const std::uint64_t paths = 8 * 8 * 16;
+        const std::size_t lastVertex = t == &inside ? 4 : 1;
+        ASSERT_EQ(counts.liveLanes.size(), 6u);
+        for (std::size_t v = 0; v < 6; ++v) {
+            EXPECT_EQ(counts.liveLanes[v], v <= lastVertex ? paths : 0u) << "vertex " << v;
+            EXPECT_EQ(counts.subgroupSteps[v] * lanes, counts.liveLanes[v]) << "vertex " << v << ": a lane idled";
+        }
+    }
+    EXPECT_THROW(render::GpuTracer(context(), prepare("furnace.json", 8).data, prepare("furnace.json", 8).plan,
+                                   prepare("furnace.json", 8).pattern,
+                                   [] {
+                                       auto o = countingLanes();
+                                       o.kernel = Kernel::Wavefront;
+                                       return o;
+                                   }()),
+                 std::invalid_argument)
+        << "lanes are the megakernel's to count";
+}
+
 TEST_F(WavefrontGpu, BatchesOverTheQueuesCapacityGoInStripsOrAreRefused)
 {
     // A batch of more paths than the queues hold is traced in strips of rows (the same words); a

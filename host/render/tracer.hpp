@@ -148,6 +148,17 @@ struct WavefrontStats {
     std::vector<std::uint64_t> stepped;
 };
 
+/// The megakernel's lanes per vertex since the last clear(), where GpuTracerOptions::countLanes:
+/// liveLanes[v] lanes ran the vertex loop at v (v = 0 the camera ray, v >= 1 the step that finds
+/// vertex v; the same paths as WavefrontStats::stepped[v]) in subgroupSteps[v] steps of a
+/// subgroup of subgroupSize lanes in lock step. liveLanes[v] / (subgroupSteps[v] * subgroupSize)
+/// is the share of the lanes that did work there: the rest waited for a longer path of their
+/// subgroup, which is what a wavefront's compaction can win back.
+struct LaneCounts {
+    std::uint32_t subgroupSize = 0;
+    std::vector<std::uint64_t> liveLanes, subgroupSteps;
+};
+
 /// How the GPU kernel is specialised; renders use the defaults, oas-render-bench varies them.
 struct GpuTracerOptions {
     KernelStage stage = KernelStage::PathTrace;
@@ -173,6 +184,10 @@ struct GpuTracerOptions {
     /// The wavefront's queue capacity in paths; 0: kWavefrontMaxPaths. A batch with more is traced
     /// in strips of rows; where one row's paths exceed it, trace() refuses the batch, naming it.
     std::uint64_t maxWavefrontPaths = 0;
+    /// The megakernel built with subgroup ballots that count its live lanes per vertex
+    /// (laneCounts()): the same sums, slower; a benchmark's probe. Throws std::invalid_argument
+    /// with the wavefront, or on a device without subgroup ballots in compute shaders.
+    bool countLanes = false;
 };
 
 /// "Kernel" names for --kernel and --explain: "mega" and "wavefront".
@@ -216,8 +231,12 @@ public:
     std::uint32_t samplesPerBatch() const { return samplesPerBatch_; }
     /// The wavefront's counts since the last clear() (all zero with the megakernel).
     WavefrontStats wavefrontStats() const;
+    /// The megakernel's live lanes per vertex since the last clear(), where options.countLanes
+    /// (empty otherwise).
+    LaneCounts laneCounts() const { return laneCounts_; }
 
 private:
+    void addLaneWords();  ///< the counting variant's words of the last dispatch into laneCounts_
     vk::Context& context_;
     Pattern pattern_;
     std::uint32_t width_, height_;
@@ -228,6 +247,8 @@ private:
     std::unique_ptr<GpuWavefront> wavefront_;  ///< the wavefront kernels, where options say so
     double pipelineBuildSeconds_ = 0;
     std::uint32_t samplesPerBatch_ = 1;
+    std::unique_ptr<vk::Buffer> laneWords_;  ///< the counting variant's PT_BINDING_OCCUPANCY, where countLanes
+    LaneCounts laneCounts_;
 };
 
 }  // namespace oas::render

@@ -10,6 +10,7 @@
 #include "oas/glsl_compat.hpp"
 #include "render/tracer.hpp"
 #include "render/wavefront_gpu.hpp"
+#include "pt_render_lanes_spv.h"
 #include "pt_render_spv.h"
 
 namespace oas::render {
@@ -99,9 +100,25 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     prefetchDims_ = s.PT_PREFETCH_DIMS;
     const auto buildStart = std::chrono::steady_clock::now();  // times the pipeline build alone
     if (options.kernel == GpuTracerOptions::Kernel::Wavefront) {
+        if (options.countLanes)
+            throw std::invalid_argument("GpuTracer: lanes are counted in the megakernel only (the wavefront counts its paths)");
         if (options.stage != KernelStage::PathTrace)
             throw std::invalid_argument("GpuTracer: the wavefront kernel traces paths only (KernelStage::PathTrace)");
         wavefront_ = std::make_unique<GpuWavefront>(context_, s, options.maxWavefrontPaths);
+    } else if (options.countLanes) {
+        if (!context_.computeSubgroupBallot())
+            throw std::invalid_argument(fmt::format("GpuTracer: counting lanes needs subgroup ballots in compute shaders, "
+                                                    "which {} does not offer",
+                                                    context_.deviceName()));
+        std::vector<vk::BindingKind> kinds = sceneBindingKinds(kBindingCount + 1);
+        kinds[pt::PT_BINDING_OCCUPANCY] = vk::BindingKind::StorageBuffer;
+        pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_lanes_spv, sizeof(pt_render_lanes_spv),
+                                                          kBindingCount + 1, std::uint32_t(sizeof(RenderParams)),
+                                                          specConstants(s), kinds);
+        // Two words per vertex loop iteration, v = 0 .. PT_MAX_DEPTH + 1.
+        laneWords_ = std::make_unique<vk::Buffer>(context_, 2 * (std::size_t(s.PT_MAX_DEPTH) + 2) * sizeof(std::uint32_t));
+        std::memset(laneWords_->data(), 0, laneWords_->size());
+        laneCounts_.subgroupSize = context_.subgroupSize();
     } else {
         pipeline_ = std::make_unique<vk::ComputePipeline>(context_, pt_render_spv, sizeof(pt_render_spv), kBindingCount,
                                                           std::uint32_t(sizeof(RenderParams)), specConstants(s),
@@ -225,6 +242,7 @@ std::uint32_t forEachBatch(std::uint32_t width, std::uint32_t height, std::uint3
 void GpuTracer::clear()
 {
     if (wavefront_) wavefront_->clearStats();
+    if (laneWords_) laneCounts_ = LaneCounts{laneCounts_.subgroupSize, {}, {}};
     const vk::Buffer& sums = *buffers_[pt::PT_BINDING_ACCUMULATION];
     std::memset(sums.data(), 0, sums.size());
 }
@@ -238,10 +256,12 @@ void GpuTracer::trace(const SampleBatch& b)
 {
     std::vector<vk::Buffer*> bindings;
     for (auto& buffer : buffers_) bindings.push_back(buffer.get());
+    if (laneWords_) bindings.push_back(laneWords_.get());
     const auto dispatch = [&](const SampleBatch& part) {
         if (wavefront_) return wavefront_->trace(pattern_, part, bindings);
         RenderParams params{pattern_, part.x0, part.y0, part.width, part.height, part.firstSample, part.count, part.seed};
         context_.dispatch(*pipeline_, bindings, &params, sizeof(params), (part.width + 7) / 8, (part.height + 7) / 8);
+        if (laneWords_) addLaneWords();
     };
     if ((prefetchDims_ == 0 && !wavefront_) || b.width == 0 || b.height == 0 || b.count == 0) return dispatch(b);
     // The generation kernel writes the batch's values, [pixel of the rectangle][sample][dim], and
@@ -271,6 +291,23 @@ void GpuTracer::trace(const SampleBatch& b)
         if (prefetchDims_ != 0) bindings[pt::PT_BINDING_SAMPLES] = &generator_->generateOnDevice(pattern_, request);
         dispatch(strip);
     }
+}
+
+static_assert(pt::PT_BINDING_OCCUPANCY == kBindingCount, "the counting variant's binding follows PT_BINDINGS'");
+
+void GpuTracer::addLaneWords()
+{
+    // One dispatch's 32-bit counts into 64-bit totals, then zeroed for the next: a dispatch counts
+    // at most its pixels x samples lanes a vertex, far below 2^32 (kMaxSamplesPerBatch).
+    auto* words = static_cast<std::uint32_t*>(laneWords_->data());
+    const std::size_t vertices = laneWords_->size() / sizeof(std::uint32_t) / 2;
+    laneCounts_.liveLanes.resize(vertices, 0);
+    laneCounts_.subgroupSteps.resize(vertices, 0);
+    for (std::size_t v = 0; v < vertices; ++v) {
+        laneCounts_.liveLanes[v] += words[2 * v];
+        laneCounts_.subgroupSteps[v] += words[2 * v + 1];
+    }
+    std::memset(words, 0, laneWords_->size());
 }
 
 WavefrontStats GpuTracer::wavefrontStats() const

@@ -317,6 +317,14 @@ void Context::pickPhysicalDevice(const ContextOptions& opts, uint32_t instanceAp
         driverName_ = drv.driverName;
         driverId = drv.driverID;
     }
+    // Subgroup properties are core in 1.1, the least this device has (checked above).
+    VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+    VkPhysicalDeviceProperties2 withSubgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+    withSubgroup.pNext = &subgroup;
+    vkGetPhysicalDeviceProperties2(physical_, &withSubgroup);
+    subgroupSize_ = subgroup.subgroupSize;
+    computeSubgroupBallot_ = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
+                             (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_BALLOT_BIT) != 0;
     isLavapipe_ = driverId == VK_DRIVER_ID_MESA_LLVMPIPE || deviceName_.find("llvmpipe") != std::string::npos;
 }
 

@@ -155,6 +155,11 @@ public:
     // Worth checking in tests: lavapipe (verified on Mesa 22.3) silently ends shader loops after
     // 65535 back-edges per invocation, summed over all loops, and caps storage bindings at 128 MiB.
     bool isLavapipe() const { return isLavapipe_; }
+    // The lanes that run in lock step (8 on lavapipe, 32 on NVIDIA), and whether compute shaders
+    // may ballot across them (GL_KHR_shader_subgroup_ballot): Vulkan 1.1 properties, which every
+    // device we pick has.
+    uint32_t subgroupSize() const { return subgroupSize_; }
+    bool computeSubgroupBallot() const { return computeSubgroupBallot_; }
     bool broken() const { return broken_; }  // a dispatch timed out or the device was lost
 
     bool validationEnabled() const { return validation_; }
@@ -193,6 +198,8 @@ private:
     VkPhysicalDeviceLimits limits_{};
     VkPhysicalDeviceMemoryProperties memProps_{};
     bool isLavapipe_ = false;
+    uint32_t subgroupSize_ = 1;
+    bool computeSubgroupBallot_ = false;
     detail::Owned<VkDevice> device_;
     VkQueue queue_ = VK_NULL_HANDLE;
     detail::Owned<VkCommandPool> cmdPool_;  // frees the command buffer with it

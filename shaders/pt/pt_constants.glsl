@@ -121,4 +121,8 @@ PT_BINDINGS(PT_DECLARE_BINDING)
 #define PT_DECLARE_WAVEFRONT_BINDING(NAME, BINDING) const uint NAME = BINDING;
 PT_WAVEFRONT_BINDINGS(PT_DECLARE_WAVEFRONT_BINDING)
 
+/// pt_render.comp's lane-counting variant (PT_COUNT_OCCUPANCY) only, past PT_BINDINGS': per
+/// vertex v, words 2v and 2v + 1 count the lanes that ran the loop at v and the subgroups that did.
+const uint PT_BINDING_OCCUPANCY = 8u;
+
 #endif

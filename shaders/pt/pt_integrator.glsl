@@ -133,6 +133,11 @@ vec3 pt_radiance(PtSampleState st, uint px, uint py)
     // p is made by pt_path_begin at v = 0; the zeros only spare compilers a read before a write.
     PtPath p = PtPath(vec3(0.0f), vec3(0.0f), vec3(0.0f), vec3(0.0f), vec3(0.0f), 0.0f, 0.0f, 0u, 0u, 1u);
     for (uint v = 0u; v <= PT_MAX_DEPTH + 1u; ++v) {
+#ifdef PT_ON_VERTEX
+        // A kernel's probe of the lanes that reach vertex v (pt_render.comp's counting variant);
+        // the path tracer and the C++ twin define none.
+        PT_ON_VERTEX(v);
+#endif
         uint first = v == 0u ? 0u : pt_vertex_dim(v, 0u);
         uint count = v == 0u ? cameraDims : (v > PT_MAX_DEPTH ? 0u : vertexDims);
         OasDraw d = pt_group_dims(st, first, count);
