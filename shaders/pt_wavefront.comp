@@ -3,7 +3,7 @@
 // Wavefront Path Tracing on GPUs", HPG 2013): the paths of a batch live in memory as records
 // (PtPath, pt/pt_integrator.glsl), and each dispatch advances every live path by one vertex, so
 // a lane is never held by a longer path of its group, as in the megakernel (pt_render.comp),
-// where a group of lanes runs until its longest path ends. Three kernels, chosen by the
+// where a group of lanes runs until its longest path ends. Four kernels, chosen by the
 // specialization constant PT_WAVEFRONT_STAGE (host/render/wavefront_gpu.cpp dispatches them):
 //   0 camera   one invocation per (pixel, sample) of the batch: the camera ray's path record,
 //              written at its own index (every camera path is live)
@@ -12,6 +12,10 @@
 //              output queue (an atomic counter), one that ends writes its radiance to its slot
 //   2 resolve  one invocation per pixel: the batch's radiances of that pixel, in sample order,
 //              added to the exact sums as the megakernel adds them
+//   3 size     one invocation before each step: the step's live paths (the camera's, or those
+//              the step before appended) and its group counts, which the step's dispatch reads
+//              on the device (vkCmdDispatchIndirect): a batch's kernels are one command buffer,
+//              with no round trip through the host between steps
 // Records are compacted themselves, in queue order, and each invocation reads the record at its
 // own index (lavapipe fetches a texel for all lanes at once and loads a storage-buffer element
 // one lane at a time: host/vk/context.hpp). The sums are integers, so the words equal the
@@ -32,8 +36,8 @@ layout(push_constant) uniform WavefrontParams {
     uint firstSample;
     uint sampleCount;
     uint seed;
-    uint pathCount;  ///< camera: the paths to start; step: the records in the input queue
-    uint vertex;     ///< step: the vertex the input queue's paths find (1 .. PT_MAX_DEPTH + 1)
+    uint pathCount;  ///< camera, size: the paths the batch starts
+    uint vertex;     ///< step, size: the vertex the input queue's paths find (1 .. PT_MAX_DEPTH + 1)
 } params;
 
 OasPattern pt_pattern() { return params.pattern; }
@@ -50,8 +54,17 @@ const uint PT_RESULT_WORDS = 4u;
 layout(binding = PT_BINDING_PATHS_IN) uniform usamplerBuffer pathsIn;
 layout(binding = PT_BINDING_PATHS_OUT, r32ui) uniform writeonly uimageBuffer pathsOut;
 layout(binding = PT_BINDING_RESULTS, r32ui) uniform uimageBuffer results;
-/// [0]: records appended to the output queue; [1]: paths ended (the host checks that every path
-/// started ends: host/render/wavefront_gpu.cpp).
+/// The counters' words (host/render/wavefront_gpu.cpp reads them after the batch and checks that
+/// every path started ends once): records the step appended to its output queue; paths ended; the
+/// next step's group counts (three words, read by its indirect dispatch); its live paths; and
+/// from PT_COUNTER_STEPPED on, the live paths of each step by vertex.
+const uint PT_COUNTER_APPENDED = 0u;
+const uint PT_COUNTER_FINISHED = 1u;
+const uint PT_COUNTER_GROUPS = 2u;
+const uint PT_COUNTER_LIVE = 5u;
+const uint PT_COUNTER_STEPPED = 8u;
+/// Groups along x of an indirect dispatch: Vulkan's least maxComputeWorkGroupCount, any device's.
+const uint PT_MAX_GROUPS_X = 65535u;
 layout(std430, binding = PT_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 
 uint pt_invocation() { return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x; }
@@ -124,8 +137,19 @@ void main()
         PtSlot s = pt_slot(i);
         OasDraw d = pt_slot_group(i, s.st, 0u, pt_camera_dims_used());
         pt_store_path(i, pt_path_begin(s.px, s.py, d, pt_globals()), i);
+    } else if (PT_WAVEFRONT_STAGE == 3u) {
+        if (i != 0u) return;
+        uint live = params.vertex == 1u ? params.pathCount : counters[PT_COUNTER_APPENDED];
+        counters[PT_COUNTER_LIVE] = live;
+        counters[PT_COUNTER_STEPPED + params.vertex] = live;
+        counters[PT_COUNTER_APPENDED] = 0u;
+        uint groups = (live + gl_WorkGroupSize.x - 1u) / gl_WorkGroupSize.x;
+        uint gx = min(groups, PT_MAX_GROUPS_X);
+        counters[PT_COUNTER_GROUPS] = gx;
+        counters[PT_COUNTER_GROUPS + 1u] = gx == 0u ? 0u : (groups + gx - 1u) / gx;
+        counters[PT_COUNTER_GROUPS + 2u] = 1u;
     } else if (PT_WAVEFRONT_STAGE == 1u) {
-        if (i >= params.pathCount) return;
+        if (i >= counters[PT_COUNTER_LIVE]) return;
         PtPath p = pt_load_path(i);
         uint slot = p.alive;
         p.alive = 1u;
@@ -134,11 +158,11 @@ void main()
         OasDraw d = pt_slot_group(slot, s.st, pt_vertex_dim(v, 0u), v > PT_MAX_DEPTH ? 0u : pt_vertex_dims_used());
         p = pt_path_step(p, d, pt_globals());
         if (p.alive != 0u) {
-            pt_store_path(atomicAdd(counters[0], 1u), p, slot);
+            pt_store_path(atomicAdd(counters[PT_COUNTER_APPENDED], 1u), p, slot);
         } else {
             [[unroll]] for (uint c = 0u; c < 3u; ++c)
                 imageStore(results, int(slot * PT_RESULT_WORDS + c), uvec4(floatBitsToUint(p.radiance[c])));
-            atomicAdd(counters[1], 1u);
+            atomicAdd(counters[PT_COUNTER_FINISHED], 1u);
         }
     } else {
         if (i >= params.tileWidth * params.tileHeight) return;

@@ -80,6 +80,44 @@ TEST(VkSmoke, DispatchWritesEveryElement)
     EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));  // on failure, gtest prints them all
 }
 
+TEST(VkSmoke, ASequenceDispatchesFromGroupCountsItsEarlierKernelsWrote)
+{
+    // One submission of four dispatches of the smoke kernel (data[i] = 3 i + add for i < n): the
+    // first writes {1, 4, 7} into `counts`, the second runs from those group counts (1 x 4 x 7
+    // groups; every group along y and z writes the same 64 values) and fills `data`, the third
+    // writes {0, 3, 6}, and the fourth, sized by that, dispatches no group and leaves `data` as
+    // it is. The second and fourth see what the first and third wrote only through the barriers
+    // between the dispatches of a sequence.
+    OAS_MAKE_CONTEXT_OR_SKIP(ctx);
+    {
+        Buffer counts(*ctx, 4 * sizeof(uint32_t)), data(*ctx, 64 * sizeof(uint32_t));
+        ComputePipeline pipe(*ctx, vk_smoke_spv, sizeof(vk_smoke_spv), 1, 8);
+        const auto step = [&](Buffer& target, uint32_t n, uint32_t add, Buffer* indirect) {
+            oas::vk::SequencedDispatch d;
+            d.pipeline = &pipe;
+            d.buffers = {&target};
+            d.push = {n, add};
+            d.indirect = indirect;
+            return d;
+        };
+        const oas::vk::SequencedDispatch sequence[] = {step(counts, 3, 1, nullptr), step(data, 64, 5, &counts),
+                                                       step(counts, 3, 0, nullptr), step(data, 64, 9, &counts)};
+        ctx->dispatchSequence(sequence);
+        const auto* c = static_cast<const uint32_t*>(counts.data());
+        EXPECT_EQ(c[0], 0u);
+        EXPECT_EQ(c[1], 3u);
+        const auto* values = static_cast<const uint32_t*>(data.data());
+        uint32_t bad = 0;
+        for (uint32_t i = 0; i < 64; ++i) bad += values[i] != 3 * i + 5;
+        EXPECT_EQ(bad, 0u) << "data[0] = " << values[0] << ": 5 if the indirect dispatch ran once and the empty one not at all";
+        oas::vk::SequencedDispatch outside = step(data, 64, 1, &counts);
+        outside.indirectOffset = 8;  // three words from byte 8 run past the 16-byte buffer
+        EXPECT_THROW(ctx->dispatchSequence({&outside, 1}), std::invalid_argument);
+    }
+    EXPECT_TRUE(ctx->validationMessages().empty());
+    EXPECT_NO_THROW(oas::vk::throwIfValidationMessages(*ctx));
+}
+
 // The path tracer reads its scene records through texel buffers, and a BVH node carries its child
 // index as float bits (a denormal) and shapes carry type ids: every bit pattern must arrive as it
 // was written, NaN payloads and denormals included, not flushed or canonicalised.

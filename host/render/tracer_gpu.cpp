@@ -338,7 +338,7 @@ std::string describeKernels(const DimensionPlan& plan, const Pattern& pattern, G
     if (kernel == GpuTracerOptions::Kernel::Mega)
         return out + "pt_render (the megakernel: one invocation traces a pixel's samples, whole paths)";
     return out + fmt::format("pt_wavefront: the camera kernel, up to {} step kernels (one per vertex, over the paths still "
-                             "live), the pixels' sums",
+                             "live, each sized on the device by the one before), the pixels' sums",
                              plan.maxDepth + 1);
 }
 

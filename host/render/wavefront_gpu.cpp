@@ -2,6 +2,7 @@
 #include "render/wavefront_gpu.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -23,6 +24,10 @@ constexpr std::uint32_t kLocalSize = 64;     // local_size_x of pt_wavefront.com
 constexpr std::uint64_t kPathWords = 20;     // PT_PATH_WORDS: PtPath's fields and the slot
 constexpr std::uint64_t kResultWords = 4;    // PT_RESULT_WORDS
 constexpr std::uint32_t kWavefrontBindings = pt::PT_BINDING_COUNTERS + 1;
+// The counters' words (pt_wavefront.comp's PT_COUNTER_*): records a step appended, paths ended,
+// the next step's three group counts, its live paths, and from kSteppedWord the live paths of each
+// step by vertex.
+constexpr std::uint32_t kAppendedWord = 0, kFinishedWord = 1, kGroupsWord = 2, kSteppedWord = 8;
 static_assert(kWavefrontBindings == kBindingCount + 4, "pt_wavefront.comp's bindings follow PT_BINDINGS'");
 
 std::unique_ptr<vk::ComputePipeline> makeStage(vk::Context& context, pt::PtSpecialization s, std::uint32_t stage)
@@ -48,7 +53,9 @@ GpuWavefront::GpuWavefront(vk::Context& context, const pt::PtSpecialization& s, 
     camera_ = makeStage(context, s, 0);
     step_ = makeStage(context, s, 1);
     resolve_ = makeStage(context, s, 2);
-    counters_ = std::make_unique<vk::Buffer>(context, 4 * sizeof(std::uint32_t));
+    size_ = makeStage(context, s, 3);
+    // Steps run for vertices 1 .. maxDepth + 1.
+    counters_ = std::make_unique<vk::Buffer>(context, (kSteppedWord + maxDepth_ + 2) * sizeof(std::uint32_t));
 }
 
 GpuWavefront::~GpuWavefront() = default;
@@ -78,41 +85,61 @@ void GpuWavefront::trace(const Pattern& pattern, const SampleBatch& b, const std
     bindings[pt::PT_BINDING_RESULTS] = results_.get();
     bindings[pt::PT_BINDING_COUNTERS] = counters_.get();
     auto* counters = static_cast<std::uint32_t*>(counters_->data());
-    counters[0] = counters[1] = 0;  // host writes before a submit are visible to it
-    WavefrontParams params{pattern, b.x0, b.y0, b.width, b.height, b.firstSample, b.count, b.seed, 0, 0};
-    const auto dispatch = [&](vk::ComputePipeline& pipeline, std::uint64_t items, vk::Buffer* in, vk::Buffer* out) {
-        bindings[pt::PT_BINDING_PATHS_IN] = in;
-        bindings[pt::PT_BINDING_PATHS_OUT] = out;
-        const std::uint64_t groups = (items + kLocalSize - 1) / kLocalSize;
-        const std::uint32_t gx = std::uint32_t(std::min<std::uint64_t>(groups, context_.limits().maxComputeWorkGroupCount[0]));
-        context_.dispatch(pipeline, bindings, &params, sizeof(params), gx, std::uint32_t((groups + gx - 1) / gx));
+    std::memset(counters, 0, counters_->size());  // host writes before a submit are visible to it
+    WavefrontParams params{pattern, b.x0, b.y0, b.width, b.height, b.firstSample, b.count, b.seed, std::uint32_t(paths), 0};
+    // The batch as one command buffer: the camera rays (every (pixel, sample) a live path, at its
+    // own index of queue 0); per vertex 1 .. maxDepth + 1, the size kernel, which turns the
+    // survivors of the step before into this step's group counts, and the step, dispatched
+    // indirectly from them (a step with no live path dispatches no group); then each pixel's
+    // radiances, in sample order, into its exact sums.
+    std::vector<vk::SequencedDispatch> sequence;
+    const auto add = [&](vk::ComputePipeline& pipeline, vk::Buffer* in, vk::Buffer* out, std::uint64_t items, bool indirect) {
+        vk::SequencedDispatch d;
+        d.pipeline = &pipeline;
+        d.buffers = bindings;
+        d.buffers[pt::PT_BINDING_PATHS_IN] = in;
+        d.buffers[pt::PT_BINDING_PATHS_OUT] = out;
+        d.push.resize(sizeof(params) / sizeof(std::uint32_t));
+        std::memcpy(d.push.data(), &params, sizeof(params));
+        if (indirect) {
+            d.indirect = counters_.get();
+            d.indirectOffset = kGroupsWord * sizeof(std::uint32_t);
+        } else {
+            const std::uint64_t groups = (items + kLocalSize - 1) / kLocalSize;
+            const std::uint32_t gx = std::uint32_t(std::min<std::uint64_t>(groups, context_.limits().maxComputeWorkGroupCount[0]));
+            d.groups[0] = gx;
+            d.groups[1] = std::uint32_t((groups + gx - 1) / gx);
+        }
+        sequence.push_back(std::move(d));
     };
-    // The camera rays: every (pixel, sample) a live path, at its own index of queue 0.
-    params.pathCount = std::uint32_t(paths);
-    dispatch(*camera_, paths, queues_[1].get(), queues_[0].get());
-    stats_.started += paths;
-    // One step per vertex while paths live; the survivors of a step are the next one's queue.
-    std::uint64_t live = paths;
-    int in = 0;
-    for (std::uint32_t vertex = 1; live != 0; ++vertex, in = 1 - in) {
-        if (vertex > maxDepth_ + 1)
-            throw std::logic_error(fmt::format("wavefront: {} paths still live after vertex {} (the plan's depth {} + 1)", live,
-                                               vertex - 1, maxDepth_));
-        if (stats_.stepped.size() <= vertex) stats_.stepped.resize(vertex + 1, 0);
-        stats_.stepped[vertex] += live;
-        counters[0] = 0;
-        params.pathCount = std::uint32_t(live);
+    add(*camera_, queues_[1].get(), queues_[0].get(), paths, false);
+    for (std::uint32_t vertex = 1; vertex <= maxDepth_ + 1; ++vertex) {
+        const int in = int(vertex - 1) % 2;
         params.vertex = vertex;
-        dispatch(*step_, live, queues_[in].get(), queues_[1 - in].get());
-        if (counters[0] > live)
-            throw std::logic_error(fmt::format("wavefront: step {} queued {} paths of {}", vertex, counters[0], live));
-        live = counters[0];
+        add(*size_, queues_[in].get(), queues_[1 - in].get(), 1, false);
+        add(*step_, queues_[in].get(), queues_[1 - in].get(), 0, true);
     }
-    stats_.finished += counters[1];
-    if (counters[1] != paths)
-        throw std::logic_error(fmt::format("wavefront: {} paths started, {} ended", paths, counters[1]));
-    // Each pixel's radiances, in sample order, into its exact sums.
-    dispatch(*resolve_, std::uint64_t(b.width) * b.height, queues_[0].get(), queues_[1].get());
+    add(*resolve_, queues_[0].get(), queues_[1].get(), std::uint64_t(b.width) * b.height, false);
+    context_.dispatchSequence(sequence);
+    // What the device counted: every path started must end once, no step may queue more paths
+    // than it had, and none may be live after the last vertex.
+    stats_.started += paths;
+    std::uint64_t live = paths;
+    for (std::uint32_t vertex = 1; vertex <= maxDepth_ + 1; ++vertex) {
+        const std::uint64_t stepped = counters[kSteppedWord + vertex];
+        if (stepped == 0) break;
+        if (stepped > live)
+            throw std::logic_error(fmt::format("wavefront: step {} queued {} paths of {}", vertex - 1, stepped, live));
+        if (stats_.stepped.size() <= vertex) stats_.stepped.resize(vertex + 1, 0);
+        stats_.stepped[vertex] += stepped;
+        live = stepped;
+    }
+    if (counters[kAppendedWord] != 0)
+        throw std::logic_error(fmt::format("wavefront: {} paths still live after vertex {} (the plan's depth {} + 1)",
+                                           counters[kAppendedWord], maxDepth_ + 1, maxDepth_));
+    stats_.finished += counters[kFinishedWord];
+    if (counters[kFinishedWord] != paths)
+        throw std::logic_error(fmt::format("wavefront: {} paths started, {} ended", paths, counters[kFinishedWord]));
 }
 
 }  // namespace oas::render

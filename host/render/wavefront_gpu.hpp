@@ -1,5 +1,5 @@
 #pragma once
-// The wavefront path tracer's host side (shaders/pt_wavefront.comp): its three pipelines, the
+// The wavefront path tracer's host side (shaders/pt_wavefront.comp): its four pipelines, the
 // path queues and how a batch runs through them. GpuTracer (render/tracer.hpp) owns one where
 // GpuTracerOptions::kernel is Wavefront; nothing else uses this header.
 #include <cstdint>
@@ -29,8 +29,9 @@ public:
     ~GpuWavefront();
     /// Paths one trace() can hold: a batch's pixels x samples must not exceed it.
     std::uint64_t capacity() const { return capacity_; }
-    /// Traces every (pixel, sample) of `batch` (at most capacity() of them): the camera kernel,
-    /// one step per vertex while paths live, then the pixels' sums. `bindings`: PT_BINDINGS's
+    /// Traces every (pixel, sample) of `batch` (at most capacity() of them) in one submission: the
+    /// camera kernel, one step per vertex (sized on the device by the step before), then the
+    /// pixels' sums. `bindings`: PT_BINDINGS's
     /// buffers, as the megakernel has them. Throws std::logic_error where a path is lost or
     /// outlives its last vertex (conservation: every path started ends once).
     void trace(const Pattern& pattern, const SampleBatch& batch, const std::vector<vk::Buffer*>& bindings);
@@ -42,7 +43,7 @@ private:
     vk::Context& context_;
     std::uint32_t maxDepth_;
     std::uint64_t capacity_;
-    std::unique_ptr<vk::ComputePipeline> camera_, step_, resolve_;
+    std::unique_ptr<vk::ComputePipeline> camera_, step_, resolve_, size_;
     std::unique_ptr<vk::Buffer> queues_[2], results_, counters_;
     WavefrontStats stats_;
 };

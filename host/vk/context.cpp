@@ -332,11 +332,11 @@ Context::~Context()
 {
     if (broken_) {
         // Waiting could block forever on a hung kernel; leaking is the only safe way out.
-        fence_.leak(), cmdPool_.leak(), device_.leak(), messenger_.leak(), instance_.leak();
+        sequencePool_.leak(), fence_.leak(), cmdPool_.leak(), device_.leak(), messenger_.leak(), instance_.leak();
         return;
     }
     // Destroying objects the GPU may still use is undefined; the owned handles then go in reverse
-    // declaration order (fence, pool, device, messenger, instance).
+    // declaration order (descriptor pool, fence, command pool, device, messenger, instance).
     if (device_.get() != VK_NULL_HANDLE) vkDeviceWaitIdle(device_.get());
 }
 
@@ -368,8 +368,8 @@ void throwIfValidationMessages(const Context& ctx)
     throw VulkanError(text);
 }
 
-void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData, uint32_t pushBytes,
-                       uint32_t gx, uint32_t gy, uint32_t gz)
+void Context::checkDispatch(const ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData,
+                            uint32_t pushBytes) const
 {
     if (broken_) throw VulkanError("Context unusable: an earlier dispatch timed out or lost the device");
     if (buffers.size() != pipe.bindingCount_)
@@ -379,13 +379,103 @@ void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, 
     if (pushBytes != pipe.pushBytes_ || (pushBytes && !pushData))
         throw std::invalid_argument(
             fmt::format("dispatch: pipeline expects {} push-constant bytes, got {}", pipe.pushBytes_, pushBytes));
-    const uint32_t g[3] = {gx, gy, gz};
-    for (int i = 0; i < 3; ++i)
-        if (g[i] > limits_.maxComputeWorkGroupCount[i])
-            throw std::invalid_argument(fmt::format("dispatch: group count {} exceeds device limit {} on axis {}", g[i],
-                                                    limits_.maxComputeWorkGroupCount[i], i));
-    const VkDevice dev = device_.get();
+    for (size_t i = 0; i < buffers.size(); ++i)
+        if (!buffers[i]) throw std::invalid_argument(fmt::format("dispatch: buffer {} is null", i));
+}
 
+void Context::checkGroups(const uint32_t (&groups)[3]) const
+{
+    for (int i = 0; i < 3; ++i)
+        if (groups[i] > limits_.maxComputeWorkGroupCount[i])
+            throw std::invalid_argument(fmt::format("dispatch: group count {} exceeds device limit {} on axis {}", groups[i],
+                                                    limits_.maxComputeWorkGroupCount[i], i));
+}
+
+void Context::writeDescriptorSet(VkDescriptorSet set, const ComputePipeline& pipe, std::span<Buffer* const> buffers) const
+{
+    std::vector<VkDescriptorBufferInfo> infos(buffers.size());
+    std::vector<VkBufferView> views(buffers.size());
+    std::vector<VkWriteDescriptorSet> writes(buffers.size());
+    for (size_t i = 0; i < buffers.size(); ++i) {
+        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+        writes[i].dstSet = set;
+        writes[i].dstBinding = static_cast<uint32_t>(i);
+        writes[i].descriptorCount = 1;
+        if (pipe.bindingKinds_[i] != BindingKind::StorageBuffer) {
+            const bool uniform = pipe.bindingKinds_[i] == BindingKind::Uint4TexelBuffer;
+            views[i] = uniform ? buffers[i]->uint4View() : buffers[i]->uintView();
+            writes[i].descriptorType = descriptorType(pipe.bindingKinds_[i]);
+            writes[i].pTexelBufferView = &views[i];
+            continue;
+        }
+        if (buffers[i]->size() > limits_.maxStorageBufferRange)
+            throw std::invalid_argument(fmt::format("dispatch: buffer {} is {} bytes, above maxStorageBufferRange {}", i,
+                                                    buffers[i]->size(), limits_.maxStorageBufferRange));
+        infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+        writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        writes[i].pBufferInfo = &infos[i];
+    }
+    vkUpdateDescriptorSets(device_.get(), static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
+}
+
+void Context::beginCommands()
+{
+    OAS_VK_CHECK(vkResetCommandBuffer(cmd_, 0));
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    OAS_VK_CHECK(vkBeginCommandBuffer(cmd_, &begin));
+}
+
+void Context::recordDispatch(const ComputePipeline& pipe, VkDescriptorSet set, const void* pushData, uint32_t pushBytes)
+{
+    vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipe.pipeline_.get());
+    if (set != VK_NULL_HANDLE)
+        vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipe.layout_.get(), 0, 1, &set, 0, nullptr);
+    if (pushBytes > 0) vkCmdPushConstants(cmd_, pipe.layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, pushData);
+}
+
+void Context::recordBarrier()
+{
+    // Host writes before submit are made visible by the submission itself; the way back needs an
+    // explicit barrier, or the mapped pointer may show stale data even after the fence. The same
+    // barrier orders this dispatch's writes before the reads of later dispatches, in this command
+    // buffer or a later submission (a barrier's second scope reaches them): the path tracer reads
+    // the samples the generation kernel wrote in the dispatch before, and a wavefront step its
+    // group counts (indirect) and the records the step before wrote.
+    VkMemoryBarrier written{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
+    written.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
+    written.dstAccessMask =
+        VK_ACCESS_HOST_READ_BIT | VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_INDIRECT_COMMAND_READ_BIT;
+    vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                         VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                         0, 1, &written, 0, nullptr, 0, nullptr);
+}
+
+void Context::submitAndWait(const std::string& what)
+{
+    OAS_VK_CHECK(vkEndCommandBuffer(cmd_));
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd_;
+    VkFence fence = fence_.get();
+    VkResult r = vkQueueSubmit(queue_, 1, &submit, fence);
+    if (r == VK_SUCCESS) r = vkWaitForFences(device_.get(), 1, &fence, VK_TRUE, timeoutNs_);
+    if (r != VK_SUCCESS) {
+        broken_ = true;  // the command buffer may still be pending, so nothing may be reused or freed
+        if (r == VK_TIMEOUT)
+            throw VulkanError(fmt::format("{} did not finish within {:g} s on {}", what, timeoutNs_ / 1e9, deviceName_), r);
+        throwVkError(r, "vkQueueSubmit/vkWaitForFences", __FILE__, __LINE__);
+    }
+    OAS_VK_CHECK(vkResetFences(device_.get(), 1, &fence));
+}
+
+void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData, uint32_t pushBytes,
+                       uint32_t gx, uint32_t gy, uint32_t gz)
+{
+    checkDispatch(pipe, buffers, pushData, pushBytes);
+    const uint32_t groups[3] = {gx, gy, gz};
+    checkGroups(groups);
+    const VkDevice dev = device_.get();
     VkDescriptorSet set = VK_NULL_HANDLE;
     if (pipe.bindingCount_ > 0) {
         OAS_VK_CHECK(vkResetDescriptorPool(dev, pipe.pool_.get(), 0));
@@ -395,69 +485,72 @@ void Context::dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, 
         dai.descriptorSetCount = 1;
         dai.pSetLayouts = &layout;
         OAS_VK_CHECK(vkAllocateDescriptorSets(dev, &dai, &set));
-        std::vector<VkDescriptorBufferInfo> infos(buffers.size());
-        std::vector<VkBufferView> views(buffers.size());
-        std::vector<VkWriteDescriptorSet> writes(buffers.size());
-        for (size_t i = 0; i < buffers.size(); ++i) {
-            if (!buffers[i]) throw std::invalid_argument(fmt::format("dispatch: buffer {} is null", i));
-            writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-            writes[i].dstSet = set;
-            writes[i].dstBinding = static_cast<uint32_t>(i);
-            writes[i].descriptorCount = 1;
-            if (pipe.bindingKinds_[i] != BindingKind::StorageBuffer) {
-                const bool uniform = pipe.bindingKinds_[i] == BindingKind::Uint4TexelBuffer;
-                views[i] = uniform ? buffers[i]->uint4View() : buffers[i]->uintView();
-                writes[i].descriptorType = descriptorType(pipe.bindingKinds_[i]);
-                writes[i].pTexelBufferView = &views[i];
-                continue;
-            }
-            if (buffers[i]->size() > limits_.maxStorageBufferRange)
-                throw std::invalid_argument(fmt::format("dispatch: buffer {} is {} bytes, above maxStorageBufferRange {}", i,
-                                                        buffers[i]->size(), limits_.maxStorageBufferRange));
-            infos[i] = {buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-            writes[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-            writes[i].pBufferInfo = &infos[i];
-        }
-        vkUpdateDescriptorSets(dev, static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
+        writeDescriptorSet(set, pipe, buffers);
     }
-
-    OAS_VK_CHECK(vkResetCommandBuffer(cmd_, 0));
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    OAS_VK_CHECK(vkBeginCommandBuffer(cmd_, &begin));
-    vkCmdBindPipeline(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipe.pipeline_.get());
-    if (set != VK_NULL_HANDLE)
-        vkCmdBindDescriptorSets(cmd_, VK_PIPELINE_BIND_POINT_COMPUTE, pipe.layout_.get(), 0, 1, &set, 0, nullptr);
-    if (pushBytes > 0) vkCmdPushConstants(cmd_, pipe.layout_.get(), VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes, pushData);
+    beginCommands();
+    recordDispatch(pipe, set, pushData, pushBytes);
     vkCmdDispatch(cmd_, gx, gy, gz);
-    // Host writes before submit are made visible by the submission itself; the way back needs an
-    // explicit barrier, or the mapped pointer may show stale data even after the fence. The same
-    // barrier orders this dispatch's writes before the reads of later dispatches (a barrier's
-    // second scope reaches later submissions to the queue): the path tracer reads the samples
-    // the generation kernel wrote in the dispatch before.
-    VkMemoryBarrier written{VK_STRUCTURE_TYPE_MEMORY_BARRIER};
-    written.srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT;
-    written.dstAccessMask = VK_ACCESS_HOST_READ_BIT | VK_ACCESS_SHADER_READ_BIT;
-    vkCmdPipelineBarrier(cmd_, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &written, 0, nullptr, 0,
-                         nullptr);
-    OAS_VK_CHECK(vkEndCommandBuffer(cmd_));
+    recordBarrier();
+    submitAndWait(fmt::format("dispatch ({}x{}x{} groups)", gx, gy, gz));
+}
 
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd_;
-    VkFence fence = fence_.get();
-    VkResult r = vkQueueSubmit(queue_, 1, &submit, fence);
-    if (r == VK_SUCCESS) r = vkWaitForFences(dev, 1, &fence, VK_TRUE, timeoutNs_);
-    if (r != VK_SUCCESS) {
-        broken_ = true;  // the command buffer may still be pending, so nothing may be reused or freed
-        if (r == VK_TIMEOUT)
-            throw VulkanError(fmt::format("dispatch ({}x{}x{} groups) did not finish within {:g} s on {}", gx, gy, gz,
-                                          timeoutNs_ / 1e9, deviceName_),
-                              r);
-        throwVkError(r, "vkQueueSubmit/vkWaitForFences", __FILE__, __LINE__);
+void Context::dispatchSequence(std::span<const SequencedDispatch> dispatches)
+{
+    if (dispatches.empty()) return;
+    std::map<VkDescriptorType, uint32_t> needed;
+    for (const SequencedDispatch& d : dispatches) {
+        if (!d.pipeline) throw std::invalid_argument("dispatchSequence: a dispatch without a pipeline");
+        checkDispatch(*d.pipeline, d.buffers, d.push.data(), uint32_t(d.push.size() * sizeof(uint32_t)));
+        if (d.indirect) {
+            if (d.indirectOffset % 4 != 0 || d.indirectOffset + 3 * sizeof(uint32_t) > d.indirect->size())
+                throw std::invalid_argument(fmt::format("dispatchSequence: indirect group counts at byte {} of a {}-byte buffer",
+                                                        d.indirectOffset, d.indirect->size()));
+        } else {
+            checkGroups(d.groups);
+        }
+        for (const BindingKind kind : d.pipeline->bindingKinds_) ++needed[descriptorType(kind)];
     }
-    OAS_VK_CHECK(vkResetFences(dev, 1, &fence));
+    const VkDevice dev = device_.get();
+    const auto sets = uint32_t(dispatches.size());
+    bool fits = sequencePool_.get() != VK_NULL_HANDLE && sets <= sequencePoolSets_;
+    for (const auto& [type, count] : needed) fits = fits && count <= sequencePoolDescriptors_[type];
+    if (!fits) {
+        sequencePool_.reset();
+        sequencePoolSets_ = std::max(sets, sequencePoolSets_);
+        std::vector<VkDescriptorPoolSize> sizes;
+        for (const auto& [type, count] : needed) sequencePoolDescriptors_[type] = std::max(count, sequencePoolDescriptors_[type]);
+        for (const auto& [type, count] : sequencePoolDescriptors_)
+            if (count) sizes.push_back({type, count});
+        VkDescriptorPoolCreateInfo dpci{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+        dpci.maxSets = sequencePoolSets_;
+        dpci.poolSizeCount = static_cast<uint32_t>(sizes.size());
+        dpci.pPoolSizes = sizes.data();
+        VkDescriptorPool pool = VK_NULL_HANDLE;
+        OAS_VK_CHECK(vkCreateDescriptorPool(dev, &dpci, nullptr, &pool));
+        sequencePool_ = detail::Owned<VkDescriptorPool>(pool, [dev](VkDescriptorPool h) { vkDestroyDescriptorPool(dev, h, nullptr); });
+    }
+    OAS_VK_CHECK(vkResetDescriptorPool(dev, sequencePool_.get(), 0));
+    beginCommands();
+    for (const SequencedDispatch& d : dispatches) {
+        const ComputePipeline& pipe = *d.pipeline;
+        VkDescriptorSet set = VK_NULL_HANDLE;
+        if (pipe.bindingCount_ > 0) {
+            VkDescriptorSetLayout layout = pipe.setLayout_.get();
+            VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+            dai.descriptorPool = sequencePool_.get();
+            dai.descriptorSetCount = 1;
+            dai.pSetLayouts = &layout;
+            OAS_VK_CHECK(vkAllocateDescriptorSets(dev, &dai, &set));
+            writeDescriptorSet(set, pipe, d.buffers);
+        }
+        recordDispatch(pipe, set, d.push.data(), uint32_t(d.push.size() * sizeof(uint32_t)));
+        if (d.indirect)
+            vkCmdDispatchIndirect(cmd_, d.indirect->handle(), d.indirectOffset);
+        else
+            vkCmdDispatch(cmd_, d.groups[0], d.groups[1], d.groups[2]);
+        recordBarrier();
+    }
+    submitAndWait(fmt::format("a sequence of {} dispatches", dispatches.size()));
 }
 
 }  // namespace oas::vk

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <span>
 #include <string>
@@ -136,6 +137,19 @@ private:
     detail::Owned<VkDescriptorPool> pool_;  // one set, reset per dispatch
 };
 
+/// One dispatch of Context::dispatchSequence: its pipeline, buffers (binding i: buffers[i]) and
+/// push-constant block (whole words), and its group counts: given, or read on the device from
+/// three uints at byte `indirectOffset` of `indirect`, which an earlier dispatch of the sequence
+/// wrote (vkCmdDispatchIndirect; counts of 0 dispatch nothing).
+struct SequencedDispatch {
+    ComputePipeline* pipeline = nullptr;
+    std::vector<Buffer*> buffers;
+    std::vector<uint32_t> push;
+    uint32_t groups[3] = {1, 1, 1};
+    Buffer* indirect = nullptr;
+    VkDeviceSize indirectOffset = 0;
+};
+
 class Context {
 public:
     explicit Context(const ContextOptions& opts = {});
@@ -176,11 +190,25 @@ public:
     // Buffer::data(). buffers[i] is bound to binding i, as the pipeline's BindingKind for it says.
     void dispatch(ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData, uint32_t pushBytes, uint32_t gx,
                   uint32_t gy = 1, uint32_t gz = 1);
+    // Records the dispatches in one command buffer, each after a barrier that makes the writes of
+    // the ones before visible to its reads and to its indirect group counts, submits it once and
+    // waits, as dispatch() does: kernels that feed each other without a round trip through the
+    // host (the wavefront's steps, each sized by the survivors of the one before).
+    void dispatchSequence(std::span<const SequencedDispatch> dispatches);
 
 private:
     static VKAPI_ATTR VkBool32 VKAPI_CALL onDebugMessage(VkDebugUtilsMessageSeverityFlagBitsEXT, VkDebugUtilsMessageTypeFlagsEXT,
                                                          const VkDebugUtilsMessengerCallbackDataEXT*, void*);
     void pickPhysicalDevice(const ContextOptions& opts, uint32_t instanceApi);
+    // dispatch()'s and dispatchSequence()'s common steps.
+    void checkDispatch(const ComputePipeline& pipe, std::span<Buffer* const> buffers, const void* pushData,
+                       uint32_t pushBytes) const;
+    void checkGroups(const uint32_t (&groups)[3]) const;
+    void writeDescriptorSet(VkDescriptorSet set, const ComputePipeline& pipe, std::span<Buffer* const> buffers) const;
+    void beginCommands();
+    void recordDispatch(const ComputePipeline& pipe, VkDescriptorSet set, const void* pushData, uint32_t pushBytes);
+    void recordBarrier();
+    void submitAndWait(const std::string& what);
 
     // The log is declared before every handle so it outlives the messenger's last callback.
     mutable std::mutex logMutex_;
@@ -205,6 +233,11 @@ private:
     detail::Owned<VkCommandPool> cmdPool_;  // frees the command buffer with it
     VkCommandBuffer cmd_ = VK_NULL_HANDLE;
     detail::Owned<VkFence> fence_;
+    // dispatchSequence's descriptor sets, one per dispatch, reset per sequence; grown to the
+    // largest sequence seen (its sets and descriptors of each type).
+    detail::Owned<VkDescriptorPool> sequencePool_;
+    std::map<VkDescriptorType, uint32_t> sequencePoolDescriptors_;
+    uint32_t sequencePoolSets_ = 0;
 };
 
 // Throws VulkanError listing every collected validation message (no-op when there are none).
