@@ -80,8 +80,8 @@ void pt_store_path(uint at, PtPath p, uint slot)
     [[unroll]] for (uint k = 0u; k < PT_PATH_WORDS; ++k) imageStore(pathsOut, int(at * PT_PATH_WORDS + k), uvec4(w[k]));
 }
 
-/// The record at `at` of the input queue; its slot in the result's `alive` word (a queued path
-/// is live).
+/// The record at `at` of the input queue, with its slot in the `alive` field (a queued path is
+/// live, so the record keeps its slot there; the caller takes it and sets the flag).
 PtPath pt_load_path(uint at)
 {
     uvec4 t0 = texelFetch(pathsIn, int(at * 5u));
@@ -165,6 +165,9 @@ void main()
             atomicAdd(counters[PT_COUNTER_FINISHED], 1u);
         }
     } else {
+        // A batch that lost a path (or ended one twice) leaves the sums as they were: the host
+        // reads the counters after the batch and throws, and no stale radiance gets in meanwhile.
+        if (counters[PT_COUNTER_FINISHED] != params.pathCount) return;
         if (i >= params.tileWidth * params.tileHeight) return;
         uint row = i / params.tileWidth;
         uint px = params.tileX + (i - row * params.tileWidth);
