@@ -4,8 +4,9 @@
 // consecutive samples, group of up to OAS_GROUP_DIMS dims of one OA block, or one pair of a
 // padded 2D baseline): the block and column state (OasBlock, OasColumn: seeds, permutation keys,
 // field constants; OasPairColumn for the pairs) is made once per pass and reused by every sample
-// of the run, which is the library's fast path. The other baselines take one sample x
-// baselineGroupDims dims per invocation. The host dispatches
+// of the run, which is the library's fast path. The other baselines take a run x
+// baselineGroupDims of the dimensions the caller reads (unreadDims), one dimension at a time, its
+// state (OasSobolColumn, OasHaltonColumn) once per pass. The host dispatches
 // chunks of whole runs (firstItem, itemCount) so each dispatch stays within device limits. The
 // library's loops all unroll, so a run's loop iterations are this kernel's own, far below
 // lavapipe's silent cap of 65535 (generate_gpu.cpp, samplesPerRun).
@@ -56,13 +57,111 @@ layout(push_constant) uniform GenerateParams {
     uint groupsPerBlock; // OAs: ceil(min(blockDims, dims) / OAS_GROUP_DIMS); baselines: 0
     uint groups;         // dimension groups per (pixel, run)
     uint chunkFirstPoint;  // pixel * spp + sample of the chunk's first output point
-    uint baselineGroupDims;  // baselines: dims per group (kBaselineGroupDims)
+    uint baselineGroupDims;  // baselines: made dims per group (generate_gpu.cpp's balanced split)
+    uint unreadDims;         // baselines: bit d (d < 32) set, dimension d is not made (a caller's gaps)
 } params;
 
 // The output as a storage texel buffer of uint: lavapipe stores a texel for all lanes at once,
 // where it writes a storage-buffer element whose index differs across lanes one lane at a time.
 layout(binding = 0, r32ui) uniform writeonly uimageBuffer valueTexels;
 #define OAS_WRITE(at, value) imageStore(valueTexels, int(at), uvec4(floatBitsToUint(value)))
+
+#ifdef OAS_HASH_ONLY
+/// Dimension `dim` of `count` samples from `index`, written from element outAt every params.dims:
+/// one hash a value, the baselines' shape.
+void generate_baseline_dim(uint seed, uint index, uint count, uint outAt, uint dim)
+{
+    for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
+        OAS_WRITE(outAt, float(oas_hash3(seed, dim, index) >> 8u) * OAS_INV_2POW24);
+}
+void generate_pair(uint seed, uint index, uint count, uint outAt, uint firstDim, uint groupDims)
+{
+    generate_baseline_dim(seed, index, count, outAt, firstDim);
+    if (groupDims > 1u) generate_baseline_dim(seed, index, count, outAt + 1u, firstDim + 1u);
+}
+#else
+// Not oas_draw, here: its loop over OAS_DRAW_MAX dimensions unrolls, so the sampler would be
+// compiled in eight times where main's run-time loop over a group's dimensions has it once, for
+// no gain (a baseline has no state to share across dimensions; the values are the same).
+
+/// The padded 2D baselines' fast path: one pair (firstDim is even; groupDims 1 where the pair
+/// is cut by the request's last dimension), `count` samples from `index` written from element
+/// outAt every params.dims, the pair's state once per pass and its cell once per sample.
+void generate_pair(uint seed, uint index, uint count, uint outAt, uint firstDim, uint groupDims)
+{
+    while (count != 0u) {  // a run may cross the end of a pass (a multiple of N)
+        uint pass = oas_div_n(params.pattern, index);
+        uint passSeed = oas_pass_seed(seed, pass);
+        uint inPass = min(count, params.pattern.N - (index - pass * params.pattern.N));
+        OasPairColumn x = oas_pair_column(params.pattern, passSeed, firstDim);
+        OasPairColumn y = oas_pair_column(params.pattern, passSeed, firstDim + 1u);
+        for (uint k = 0u; k < inPass; ++k, ++index, outAt += params.dims) {
+            uint i = index - pass * params.pattern.N;
+            uint cell = oas_pair_cell(x, i);
+            OAS_WRITE(outAt, oas_pair_cell_dim(params.pattern, x, cell, i));
+            if (groupDims > 1u) OAS_WRITE(outAt + 1u, oas_pair_cell_dim(params.pattern, y, cell, i));
+        }
+        count -= inPass;
+    }
+}
+
+/// The other baselines: dimension `dim` of `count` samples from `index`, written from element
+/// outAt every params.dims. Runs of samples of one dimension: its state once per pass
+/// (OasSobolColumn: direction numbers and seeds; OasHaltonColumn: the base's constants and every
+/// digit's permutation), where oas_sample makes it again for every value; random and
+/// sobol-burley (no per-dimension state) find the pass and its seed once per pass (one sample per
+/// invocation spent most of its time finding its pixel and pass: random ran at 0.6x the OAs'
+/// values per second on lavapipe).
+void generate_baseline_dim(uint seed, uint index, uint count, uint outAt, uint dim)
+{
+    bool tableSobol = OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL || OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL_OWEN;
+    while (count != 0u) {  // a run may cross the end of a pass (a multiple of N)
+        uint pass = oas_div_n(params.pattern, index);
+        uint passSeed = oas_pass_seed(seed, pass);
+        uint first = index - pass * params.pattern.N;
+        uint inPass = min(count, params.pattern.N - first);
+        if (tableSobol) {
+            OasSobolColumn column = oas_sobol_column(passSeed, dim);
+            for (uint k = 0u; k < inPass; ++k)
+                OAS_WRITE(outAt + k * params.dims, oas_sobol_column_dim(params.pattern, column, first + k));
+        } else if (OAS_CONSTRUCTION(params.pattern) == OAS_HALTON) {
+            OasHaltonColumn column = oas_halton_column(params.pattern, passSeed, dim);
+            // Block 0's indices are the samples' own, so each follows the last by a carry
+            // (oas_halton_cursor_next) rather than two divisions per digit. The branch stands
+            // outside the loops: lavapipe runs both sides of a branch, but a loop whose lanes are
+            // all off ends after one masked pass.
+            if (column.block == 0u) {
+                OasHaltonCursor r = oas_halton_cursor(column, first);
+                for (uint k = 0u; k < inPass; ++k, r = oas_halton_cursor_next(column, r))
+                    OAS_WRITE(outAt + k * params.dims, oas_halton_cursor_value(params.pattern, column, r, first + k));
+            } else {
+                for (uint k = 0u; k < inPass; ++k)
+                    OAS_WRITE(outAt + k * params.dims, oas_halton_column_dim(params.pattern, column, first + k));
+            }
+        } else {
+            for (uint k = 0u; k < inPass; ++k)
+                OAS_WRITE(outAt + k * params.dims, oas_baseline_dim(params.pattern, passSeed, first + k, dim));
+        }
+        index += inPass;
+        outAt += inPass * params.dims;
+        count -= inPass;
+    }
+}
+#endif
+
+// The baselines make only the dimensions a caller reads: `made` has bit d set for each dimension
+// d < 32 to make (every dimension from 32 on is made). With step 1, the j-th made dimension; with
+// step 2 (the padded 2D baselines' pairs, `made` then holding the even first dimensions of the
+// pairs with a made dimension), the first dimension of the j-th made pair. Why: a path tracer's
+// plan leaves gaps (an alignment gap, the padding to whole texels) that no path reads; on
+// blue_spheres9d 3 of the 12 dimensions it prefetches.
+uint nth_made_dim(uint made, uint j, uint step)
+{
+    uint low = uint(bitCount(made));
+    if (j >= low) return 32u + (j - low) * step;
+    for (uint i = 0u; i < j; ++i) made &= made - 1u;  // clears the j lowest
+    return uint(findLSB(made));
+}
 
 void main()
 {
@@ -76,107 +175,44 @@ void main()
     uint run = pixelRun - pixel * runs;
     uint py = pixel / params.width;
     uint seed = oas_pixel_seed(params.x0 + (pixel - py * params.width), params.y0 + py, params.seed);
-    // Dimensions [firstDim, firstDim + groupDims): within one OA block for the OA constructions.
-    uint block = 0u;
-    uint groupSize = params.baselineGroupDims;
-    uint firstCol = group * groupSize;
-    uint blockDims = params.dims;
-    if (params.groupsPerBlock != 0u) {  // OA constructions (the hash-only kernel is not specialised)
-        block = group / params.groupsPerBlock;
-        groupSize = OAS_GROUP_DIMS;
-        firstCol = (group - block * params.groupsPerBlock) * OAS_GROUP_DIMS;
-        blockDims = params.pattern.blockDims;
-    }
-    uint firstDim = block * blockDims + firstCol;
-    if (firstDim >= params.dims || firstCol >= blockDims) return;
-    uint groupDims = min(groupSize, min(blockDims - firstCol, params.dims - firstDim));
     uint firstRunSample = run * params.samplesPerRun;  // relative to params.firstSample
     uint count = min(params.samplesPerRun, params.spp - firstRunSample);
-    // Output offset relative to the chunk, which starts at a whole run (see generate_gpu.cpp).
-    uint outAt = (pixel * params.spp + firstRunSample - params.chunkFirstPoint) * params.dims + firstDim;
+    // Output offset of the run's first point relative to the chunk, which starts at a whole run
+    // (see generate_gpu.cpp).
+    uint runAt = (pixel * params.spp + firstRunSample - params.chunkFirstPoint) * params.dims;
     uint index = params.firstSample + firstRunSample;
+    if (params.groupsPerBlock == 0u) {  // baselines and the hash-only kernel (not specialised)
+        uint made = (params.dims >= 32u ? ~0u : (1u << params.dims) - 1u) & ~params.unreadDims;
+        uint past32 = max(params.dims, 32u) - 32u;
+        if (oas_is_padded_2d(params.pattern)) {  // a pair a group (generate_gpu.cpp)
+            made = (made | (made >> 1u)) & 0x55555555u;
+            if (group >= uint(bitCount(made)) + (past32 + 1u) / 2u) return;
+            uint firstDim = nth_made_dim(made, group, 2u);
+            generate_pair(seed, index, count, runAt + firstDim, firstDim, min(2u, params.dims - firstDim));
+            return;
+        }
+        uint first = group * params.baselineGroupDims;  // the group's first made dimension, counted
+        uint madeDims = uint(bitCount(made)) + past32;
+        if (first >= madeDims) return;
+        uint groupDims = min(params.baselineGroupDims, madeDims - first);
+        for (uint c = 0u; c < groupDims; ++c) {
+            uint dim = nth_made_dim(made, first + c, 1u);
+            generate_baseline_dim(seed, index, count, runAt + dim, dim);
+        }
+        return;
+    }
+    // The OAs: dimensions [firstDim, firstDim + groupDims) of one OA block, all made (the block's
+    // row, made per sample, serves the group's columns).
+    uint block = group / params.groupsPerBlock;
+    uint blockDims = params.pattern.blockDims;
+    uint firstCol = (group - block * params.groupsPerBlock) * OAS_GROUP_DIMS;
+    uint firstDim = block * blockDims + firstCol;
+    if (firstDim >= params.dims || firstCol >= blockDims) return;
+    uint groupDims = min(OAS_GROUP_DIMS, min(blockDims - firstCol, params.dims - firstDim));
+    uint outAt = runAt + firstDim;
 #ifdef OAS_HASH_ONLY
-    for (uint k = 0u; k < count; ++k, ++index, outAt += params.dims)
-        for (uint c = 0u; c < groupDims; ++c)
-            OAS_WRITE(outAt + c, float(oas_hash3(seed, firstDim + c, index) >> 8u) * OAS_INV_2POW24);
+    for (uint c = 0u; c < groupDims; ++c) generate_baseline_dim(seed, index, count, outAt + c, firstDim + c);
 #else
-    // Not oas_draw, here: its loop over OAS_DRAW_MAX dimensions unrolls, so the sampler would be
-    // compiled in eight times where this run-time loop has it once, for no gain (a baseline has no
-    // state to share across dimensions; the values are the same). The OA path below is the
-    // library's bulk fast path: block and column state once per pass, shared by the run's
-    // samples, which oas_draw (one sample a call) would make again for every sample.
-    if (oas_is_padded_2d(params.pattern)) {
-        // The padded 2D baselines' fast path: one pair (firstDim is even), runs of samples, the
-        // pair's state once per pass and its cell once per sample (generate_gpu.cpp's layout).
-        while (count != 0u) {
-            uint pass = oas_div_n(params.pattern, index);
-            uint passSeed = oas_pass_seed(seed, pass);
-            uint inPass = min(count, params.pattern.N - (index - pass * params.pattern.N));
-            OasPairColumn x = oas_pair_column(params.pattern, passSeed, firstDim);
-            OasPairColumn y = oas_pair_column(params.pattern, passSeed, firstDim + 1u);
-            for (uint k = 0u; k < inPass; ++k, ++index, outAt += params.dims) {
-                uint i = index - pass * params.pattern.N;
-                uint cell = oas_pair_cell(x, i);
-                OAS_WRITE(outAt, oas_pair_cell_dim(params.pattern, x, cell, i));
-                if (groupDims > 1u) OAS_WRITE(outAt + 1u, oas_pair_cell_dim(params.pattern, y, cell, i));
-            }
-            count -= inPass;
-        }
-        return;
-    }
-    bool tableSobol = OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL || OAS_CONSTRUCTION(params.pattern) == OAS_SOBOL_OWEN;
-    if (tableSobol || OAS_CONSTRUCTION(params.pattern) == OAS_HALTON) {
-        // Runs of samples, one dimension at a time: its state once per (pass, dimension)
-        // (OasSobolColumn: direction numbers and seeds; OasHaltonColumn: the base's constants and
-        // every digit's permutation), where oas_sample makes it again for every value.
-        while (count != 0u) {
-            uint pass = oas_div_n(params.pattern, index);
-            uint passSeed = oas_pass_seed(seed, pass);
-            uint first = index - pass * params.pattern.N;
-            uint inPass = min(count, params.pattern.N - first);
-            for (uint c = 0u; c < groupDims; ++c) {
-                if (tableSobol) {
-                    OasSobolColumn column = oas_sobol_column(passSeed, firstDim + c);
-                    for (uint k = 0u; k < inPass; ++k)
-                        OAS_WRITE(outAt + k * params.dims + c, oas_sobol_column_dim(params.pattern, column, first + k));
-                } else {
-                    OasHaltonColumn column = oas_halton_column(params.pattern, passSeed, firstDim + c);
-                    // Block 0's indices are the samples' own, so each follows the last by a carry
-                    // (oas_halton_cursor_next) rather than two divisions per digit. The branch
-                    // stands outside the loops: lavapipe runs both sides of a branch, but a loop
-                    // whose lanes are all off ends after one masked pass.
-                    if (column.block == 0u) {
-                        OasHaltonCursor r = oas_halton_cursor(column, first);
-                        for (uint k = 0u; k < inPass; ++k, r = oas_halton_cursor_next(column, r))
-                            OAS_WRITE(outAt + k * params.dims + c, oas_halton_cursor_value(params.pattern, column, r, first + k));
-                    } else {
-                        for (uint k = 0u; k < inPass; ++k)
-                            OAS_WRITE(outAt + k * params.dims + c, oas_halton_column_dim(params.pattern, column, first + k));
-                    }
-                }
-            }
-            index += inPass;
-            outAt += inPass * params.dims;
-            count -= inPass;
-        }
-        return;
-    }
-    if (OAS_CONSTRUCTION(params.pattern) >= OAS_RANDOM) {
-        // Random and sobol-burley (no per-dimension state) take runs of samples, as the OAs do:
-        // the pass and its seed once per pass, then the value. One sample per invocation spent
-        // most of its time finding its pixel and pass (random ran at 0.6x the OAs' values per
-        // second on lavapipe).
-        while (count != 0u) {
-            uint pass = oas_div_n(params.pattern, index);
-            uint passSeed = oas_pass_seed(seed, pass);
-            uint inPass = min(count, params.pattern.N - (index - pass * params.pattern.N));
-            for (uint k = 0u; k < inPass; ++k, ++index, outAt += params.dims)
-                for (uint c = 0u; c < groupDims; ++c)
-                    OAS_WRITE(outAt + c, oas_baseline_dim(params.pattern, passSeed, index - pass * params.pattern.N, firstDim + c));
-            count -= inPass;
-        }
-        return;
-    }
     // A run may cross the end of a pass (a multiple of N); the state is remade for each pass.
     while (count != 0u) {
         OasBlock b = oas_block(params.pattern, seed, index, block);

@@ -439,7 +439,26 @@ TEST(DimensionPlan, EveryScenesIntegrandDimension)
     EXPECT_NE(nine.time, render::kAbsent);
 }
 
-class RenderGpu : public test::GpuTest {};
+class RenderGpu : public test::GpuTest {
+protected:
+    /// Every shipped scene: their plans differ in depth, NEE, MIS, lens, motion and roulette.
+    static constexpr const char* kShippedScenes[] = {"cornell7d.json",      "blue_spheres9d.json",   "interior_deep.json",
+                                                     "furnace.json",        "plane_rect_light.json", "mesh_demo.json"};
+
+    /// `batch` traced with the prefetched samples (the generation kernel's) and with the inline
+    /// fetch (oas_draw per sample): the values are the same bits, so the sums must be too.
+    void expectPrefetchedSumsEqualInline(const render::SceneData& data, const render::DimensionPlan& plan, const Pattern& pattern,
+                                         const render::SampleBatch& batch, const std::string& what)
+    {
+        using Prefetch = render::GpuTracerOptions::Prefetch;
+        render::GpuTracer inlineFetch(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, Prefetch::Never});
+        render::GpuTracer prefetched(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, Prefetch::Always});
+        inlineFetch.trace(batch);
+        prefetched.trace(batch);
+        EXPECT_TRUE(prefetched.accumulation().words == inlineFetch.accumulation().words)
+            << what << ": the prefetched samples' sums differ";
+    }
+};
 
 TEST_F(RenderGpu, AgreesWithTheCpuReference)
 {
@@ -519,8 +538,7 @@ TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
     // which prefetchDims must cover), across a pass boundary (the batch starts one sample before
     // the end of the first pass), and in strips (a cap on the points of one generation dispatch
     // splits the batch's rows, here into strips of two rows and a last one of one).
-    for (const char* name : {"cornell7d.json", "blue_spheres9d.json", "interior_deep.json", "furnace.json",
-                             "plane_rect_light.json", "mesh_demo.json"}) {
+    for (const char* name : kShippedScenes) {
         auto s = loadTestScene(name);
         s.width = 16;
         s.height = 9;
@@ -571,13 +589,35 @@ TEST_F(RenderGpu, PrefetchedSamplesGiveTheSumsOfTheInlineFetch)
         batch.count = 3;
         batch.firstSample = pattern.N - 1;
         batch.seed = 5;
-        using Prefetch = render::GpuTracerOptions::Prefetch;
-        render::GpuTracer inlineFetch(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, Prefetch::Never});
-        render::GpuTracer prefetched(context(), data, plan, pattern, {render::KernelStage::PathTrace, true, Prefetch::Always});
-        inlineFetch.trace(batch);
-        prefetched.trace(batch);
-        EXPECT_TRUE(prefetched.accumulation().words == inlineFetch.accumulation().words)
-            << sampler << ": the prefetched samples' sums differ";
+        expectPrefetchedSumsEqualInline(data, plan, pattern, batch, sampler);
+    }
+}
+
+TEST_F(RenderGpu, PrefetchedBaselinesGiveTheSumsOfTheInlineFetch)
+{
+    // The generation kernel's baselines leave the dimensions no path uses unmade
+    // (render::unusedDims, SampleRequest::unreadDims): whatever the buffer held there must reach
+    // no sum. On every shipped scene (in which dimensions of a fetched group a path reads), Sobol
+    // (a dimension a group) and cmj2d (a pair a group) prefetched give the sums of the inline
+    // fetch, across a pass.
+    for (const char* name : kShippedScenes) {
+        auto s = loadTestScene(name);
+        s.width = 16;
+        s.height = 9;
+        const auto plan = render::planDimensions(s);
+        const auto data = render::flattenScene(s);
+        if (std::string(name) == "blue_spheres9d.json")  // its plan: dims 0-4 and 6-9 (explain), 12 prefetched
+            EXPECT_EQ(render::unusedDims(plan) & 0xfffu, (1u << 5) | (1u << 10) | (1u << 11));
+        for (const char* sampler : {"sobol", "cmj2d"}) {
+            const auto pattern = patternFor(s, plan, 16, sampler);
+            render::SampleBatch batch;
+            batch.width = s.width;
+            batch.height = s.height;
+            batch.count = 3;
+            batch.firstSample = pattern.N - 1;
+            batch.seed = 7;
+            expectPrefetchedSumsEqualInline(data, plan, pattern, batch, std::string(name) + ", " + sampler);
+        }
     }
 }
 

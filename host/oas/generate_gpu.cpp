@@ -13,8 +13,11 @@ namespace oas {
 namespace {
 constexpr std::uint32_t kLocalSize = 64;  // local_size_x of oas_generate.comp
 constexpr std::uint32_t kGroupDims = 4;   // OAS_GROUP_DIMS of oas_generate.comp (OAs)
-// Baselines: runs of samples x 8 dims per invocation, so neighbouring lanes take the same
-// dimensions of neighbouring runs (the same Halton base and Sobol direction numbers in every lane).
+// Baselines: runs of samples x up to 8 of the dimensions made per invocation, so that with up
+// to 8 dimensions neighbouring lanes take the same dimensions of neighbouring runs (the same
+// Halton base and Sobol direction numbers in every lane). Past 8 the made dimensions are split
+// into groups of equal size (12 made: 6 + 6), since lanes run in lock step and pay for the
+// largest group: 8 + 4 cost as much as 8 + 8 (blue_spheres9d's 12 prefetched dimensions).
 constexpr std::uint32_t kBaselineGroupDims = 8;
 // The padded 2D baselines instead take the OAs' shape, runs of samples x one pair of dimensions:
 // their per-(pass, dimension) state (OasPairColumn: permutation keys, the grid's reciprocals) is
@@ -25,17 +28,33 @@ bool isPadded2d(const Pattern& p)
 {
     return glsl::oas_is_padded_2d(glsl::toGlsl(p));
 }
-std::uint32_t baselineGroupDims(const Pattern& p)
+/// The baselines' dimensions to make: those below 32 not in r.unreadDims, and all from 32 on
+/// (oas_generate.comp's nth_made_dim). The padded 2D baselines: the pairs with a made dimension.
+std::uint32_t madeGroupsOrDims(const Pattern& p, const SampleRequest& r)
 {
-    return isPadded2d(p) ? kPairGroupDims : kBaselineGroupDims;
+    std::uint32_t made = (r.dims >= 32 ? ~0u : (1u << r.dims) - 1u) & ~r.unreadDims;
+    const std::uint32_t past32 = std::max(r.dims, 32u) - 32;
+    if (!isPadded2d(p)) return std::uint32_t(__builtin_popcount(made)) + past32;
+    made = (made | (made >> 1)) & 0x55555555u;
+    return std::uint32_t(__builtin_popcount(made)) + (past32 + 1) / 2;
+}
+
+/// Made dimensions per baseline invocation: a pair, or the made dimensions in equal groups of
+/// at most kBaselineGroupDims.
+std::uint32_t baselineGroupDims(const Pattern& p, const SampleRequest& r)
+{
+    if (isPadded2d(p)) return kPairGroupDims;
+    const std::uint32_t made = std::max(madeGroupsOrDims(p, r), 1u);
+    const std::uint32_t groups = (made + kBaselineGroupDims - 1) / kBaselineGroupDims;
+    return (made + groups - 1) / groups;
 }
 
 struct GenerateParams {  // the push-constant block of oas_generate.comp
     Pattern pattern;
     std::uint32_t x0, y0, width, spp, dims, seed, firstItem, itemCount, firstSample;
-    std::uint32_t samplesPerRun, groupsPerBlock, groups, chunkFirstPoint, baselineGroupDims;
+    std::uint32_t samplesPerRun, groupsPerBlock, groups, chunkFirstPoint, baselineGroupDims, unreadDims;
 };
-static_assert(sizeof(GenerateParams) == 120);
+static_assert(sizeof(GenerateParams) == 124, "within the 128 bytes of push constants every device has");
 
 /// How the kernel splits a request: each invocation evaluates `samplesPerRun` consecutive samples
 /// of one pixel for `groupDims` dimensions (one OA block's), sharing the block and column state.
@@ -56,7 +75,8 @@ Layout layoutFor(const Pattern& p, const SampleRequest& r)
     l.runs = (r.spp + l.samplesPerRun - 1) / l.samplesPerRun;
     if (p.construction >= glsl::OAS_RANDOM) {
         l.groupsPerBlock = 0;
-        l.groups = (r.dims + baselineGroupDims(p) - 1) / baselineGroupDims(p);
+        const std::uint32_t made = madeGroupsOrDims(p, r);
+        l.groups = isPadded2d(p) ? made : (made + baselineGroupDims(p, r) - 1) / baselineGroupDims(p, r);
     } else {
         const std::uint32_t blocks = (r.dims + p.blockDims - 1) / p.blockDims;
         l.groupsPerBlock = (std::min(p.blockDims, r.dims) + kGroupDims - 1) / kGroupDims;
@@ -191,11 +211,12 @@ void GpuGenerator::dispatchAll(const Pattern& pattern, const SampleRequest& r, f
                               layout.groupsPerBlock,
                               layout.groups,
                               std::uint32_t(firstPoint),
-                              baselineGroupDims(pattern)};
+                              baselineGroupDims(pattern, r),
+                              pattern.construction >= glsl::OAS_RANDOM ? r.unreadDims : 0u};
         const std::uint32_t workGroups = (items + kLocalSize - 1) / kLocalSize;
         const std::uint32_t gx = std::min(workGroups, maxGroupsX);
-        const std::uint32_t gy = (workGroups + gx - 1) / gx;
-        context_.dispatch(pipeline, buffers, &params, sizeof(params), gx, gy);
+        if (gx != 0)  // none where every dimension is unread
+            context_.dispatch(pipeline, buffers, &params, sizeof(params), gx, (workGroups + gx - 1) / gx);
         if (out)
             std::memcpy(out + firstPoint * r.dims, buffer_->data(), std::size_t(endPoint - firstPoint) * r.dims * sizeof(float));
     }

@@ -138,6 +138,12 @@ struct SampleRequest {
     std::uint32_t dims = 2;
     std::uint32_t seed = 0;         ///< user seed mixed into every pixel seed
     std::uint32_t firstSample = 0;  ///< sample indices [firstSample, firstSample + spp)
+    /// Bit d set: dimension d (< 32) is read by nobody, so the GPU generator's baselines need not
+    /// make it (its elements are then left as they were). A path tracer's plan leaves such gaps
+    /// (alignment, padding to whole texels). The padded 2D baselines make a pair whole where
+    /// either of its dimensions is read; the OAs make every dimension (the block's row serves its
+    /// columns); generateCpu makes every dimension.
+    std::uint32_t unreadDims = 0;
 };
 
 /// Pixel seed (oas_pixel_seed) for pixel (x, y) and user seed.

@@ -114,6 +114,14 @@ glm::vec2 childrenBoxScalar(const SceneData& data, std::uint32_t first, glm::vec
 /// (pt_sample_dims.glsl) on the CPU, so the GPU's prefetch covers exactly what the kernel reads.
 std::uint32_t fetchedDimsEnd(const DimensionPlan& plan, const Pattern& pattern);
 
+/// The dimensions below 32 that no path uses, as bits (d: 1 << d): those in none of the plan's
+/// entries (the alignment gaps, what the last vertex's group holds but the path stops before
+/// using, the padding to whole texels). pt_radiance may fetch them with its groups but reads no
+/// value of theirs, so the generation kernel's baselines leave them unmade
+/// (SampleRequest::unreadDims; RenderGpu.PrefetchedBaselinesGiveTheSumsOfTheInlineFetch checks
+/// the sums on every shipped scene).
+std::uint32_t unusedDims(const DimensionPlan& plan);
+
 /// Dimensions per (pixel, sample) the GPU kernel reads from prefetched samples
 /// (pt_constants.glsl's PT_PREFETCH_DIMS): fetchedDimsEnd rounded up to whole uvec4 texels for
 /// the OAs, the padded 2D baselines (their pairs' permutation keys), the table-driven Sobol
@@ -243,6 +251,7 @@ private:
     std::unique_ptr<vk::ComputePipeline> pipeline_;
     std::vector<std::unique_ptr<vk::Buffer>> buffers_;
     std::uint32_t prefetchDims_ = 0;           ///< PT_PREFETCH_DIMS
+    std::uint32_t unreadDims_ = 0;             ///< dimensions no path uses (unusedDims)
     std::unique_ptr<GpuGenerator> generator_;  ///< the batches' samples, where prefetchDims_ != 0
     std::unique_ptr<GpuWavefront> wavefront_;  ///< the wavefront kernels, where options say so
     double pipelineBuildSeconds_ = 0;

@@ -40,6 +40,14 @@ std::uint32_t fetchedTexelDims(const DimensionPlan& plan, const Pattern& pattern
 }
 }  // namespace
 
+std::uint32_t unusedDims(const DimensionPlan& plan)
+{
+    std::uint32_t used = 0;
+    for (const auto& entry : plan.entries)
+        for (std::uint32_t d = entry.first; d < entry.first + entry.count && d < 32; ++d) used |= 1u << d;
+    return ~used;
+}
+
 std::uint32_t prefetchDims(const DimensionPlan& plan, const Pattern& pattern)
 {
     const bool padded2d = glsl::oas_is_padded_2d(glsl::toGlsl(pattern));
@@ -98,6 +106,7 @@ GpuTracer::GpuTracer(vk::Context& context, const SceneData& data, const Dimensio
     const bool prefetch = always || (options.prefetch == GpuTracerOptions::Prefetch::WherePays && dims <= kPrefetchPaysUpToDims);
     s.PT_PREFETCH_DIMS = prefetch ? dims : 0;
     prefetchDims_ = s.PT_PREFETCH_DIMS;
+    unreadDims_ = unusedDims(plan);
     const auto buildStart = std::chrono::steady_clock::now();  // times the pipeline build alone
     if (options.kernel == GpuTracerOptions::Kernel::Wavefront) {
         if (options.countLanes)
@@ -273,6 +282,7 @@ void GpuTracer::trace(const SampleBatch& b)
     request.width = b.width;
     request.spp = b.count;
     request.dims = prefetchDims_;
+    request.unreadDims = unreadDims_;
     request.seed = b.seed;
     request.firstSample = b.firstSample;
     std::uint32_t rows = b.height;
