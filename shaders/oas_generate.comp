@@ -152,9 +152,9 @@ void generate_baseline_dim(uint seed, uint index, uint count, uint outAt, uint d
 // The baselines make only the dimensions a caller reads: `made` has bit d set for each dimension
 // d < 32 to make (every dimension from 32 on is made). With step 1, the j-th made dimension; with
 // step 2 (the padded 2D baselines' pairs, `made` then holding the even first dimensions of the
-// pairs with a made dimension), the first dimension of the j-th made pair. Why: a path tracer's
-// plan leaves gaps (an alignment gap, the padding to whole texels) that no path reads; on
-// blue_spheres9d 3 of the 12 dimensions it prefetches.
+// pairs with a made dimension), the first dimension of the j-th made pair. Why: a path tracer
+// fetches dimensions no path uses (an alignment gap, a last vertex's group the path ends before
+// reading, the padding to whole texels); on blue_spheres9d 3 of the 12 it prefetches.
 uint nth_made_dim(uint made, uint j, uint step)
 {
     uint low = uint(bitCount(made));
@@ -181,7 +181,7 @@ void main()
     // (see generate_gpu.cpp).
     uint runAt = (pixel * params.spp + firstRunSample - params.chunkFirstPoint) * params.dims;
     uint index = params.firstSample + firstRunSample;
-    if (params.groupsPerBlock == 0u) {  // baselines and the hash-only kernel (not specialised)
+    if (params.groupsPerBlock == 0u) {  // the baselines (the hash-only kernel too, given a baseline)
         uint made = (params.dims >= 32u ? ~0u : (1u << params.dims) - 1u) & ~params.unreadDims;
         uint past32 = max(params.dims, 32u) - 32u;
         if (oas_is_padded_2d(params.pattern)) {  // a pair a group (generate_gpu.cpp)
